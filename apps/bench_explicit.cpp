@@ -1,0 +1,90 @@
+// impm_bench_explicit: speed and memory of the explicit step (USL, FLIP) on a long bar.
+//
+// For linear MPM and for uGIMP it runs a bar of 1000 x 5 cells with 5 x 5 particles per cell
+// (125,000 particles) and prints particle-steps per second at 1 and 2 OpenMP threads, and
+// bytes per particle (particle views, and the process's resident-memory growth).
+// Targets (issue 2): >= 20 M particle-steps/s (MPM) and >= 10 M (GIMP) on 2 threads,
+// <= 300 bytes per particle.
+//
+// Sample run:   build/apps/impm_bench_explicit            (spawns itself once per thread count)
+//               build/apps/impm_bench_explicit --child --kokkos-threads=2 --steps 200
+#include <Tpetra_Core.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "core/InputDeck.hpp"
+#include "solvers/ExplicitStepper.hpp"
+#include "physics/Body.hpp"
+
+namespace {
+
+long residentKiB() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
+
+template <class Shape>
+void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  using namespace impm;
+  const long rss0 = residentKiB();
+  StructuredGrid g;
+  g.nx = 1000; g.ny = 5; g.hx = 1e-3; g.hy = 1e-3;
+  GridDistribution dist(g, comm);
+  LinearElastic mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStress};
+  RectangularBody body{0.0, 1.0, 0.0, 5e-3, 5, 5, 1e-3};
+  ParticleSet ps = createParticles(body, mat, dist);
+  NodalConstraints bc({ConstraintSpec{"left", "Face", "x-", 0, 0, true, false}}, body, dist);
+  LoadSpec load{"end", "Face Traction", "x+", 0, 0, 1.0, 0.0, TimeFunction{}};
+  LoadSet loads({load}, body, dist, {-1});
+  ExplicitOptions opt;
+  ExplicitStepper<Shape> stepper(ps, dist, mat, bc, loads, opt);
+  const double dt = 0.2 * g.hx / mat.pWaveSpeed();
+  for (int n = 0; n < 5; ++n) stepper.step(n * dt, dt);  // warm-up (first-touch, allocations)
+  Kokkos::fence();
+  const long rss1 = residentKiB();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int n = 0; n < steps; ++n) stepper.step(n * dt, dt);
+  Kokkos::fence();
+  const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double rate = double(ps.count) * steps / sec;
+  std::printf("%-5s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s  "
+              "view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
+              Shape::name, (int)ExecutionSpace::concurrency(), ps.count, steps, sec, rate / 1e6,
+              ParticleSet::bytesPerParticle(), 1024.0 * (rss1 - rss0) / ps.count);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool child = false;
+  int steps = 200;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--child")) child = true;
+    if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
+  }
+  if (!child) {
+    // One process per thread count: Kokkos fixes its thread count at initialisation.
+    std::printf("impm explicit-step benchmark (USL, FLIP, bar of 1000 x 5 cells, 25 particles per cell)\n");
+    std::fflush(stdout);
+    int status = 0;
+    for (int threads : {1, 2}) {
+      const std::string cmd = "OMP_PROC_BIND=false OMP_NUM_THREADS=" + std::to_string(threads) + " '" + argv[0] +
+                              "' --child --steps " + std::to_string(steps) + " --kokkos-threads=" + std::to_string(threads);
+      status |= std::system(cmd.c_str());
+    }
+    return status == 0 ? 0 : 1;
+  }
+  Tpetra::ScopeGuard scope(&argc, &argv);
+  auto comm = Tpetra::getDefaultComm();
+  runCase<impm::LinearMpm>(steps, comm);
+  runCase<impm::UniformGimp>(steps, comm);
+  return 0;
+}

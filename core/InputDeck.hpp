@@ -1,0 +1,34 @@
+// The input deck: one Teuchos::ParameterList per run, read from XML or YAML, checked against
+// the full list of valid parameters (unknown keys, types, allowed values) and completed with
+// defaults. Every problem is reported as a DeckError naming the key.
+#pragma once
+
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_RCP.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace impm {
+
+struct DeckError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Every valid parameter with its default and documentation. The collections "Constraints",
+// "Loads" and "Monitors" hold any number of named sublists, each of the form
+// collectionTemplate(name).
+Teuchos::RCP<const Teuchos::ParameterList> validParameters();
+Teuchos::RCP<const Teuchos::ParameterList> collectionTemplate(const std::string& collection);
+
+// Reads a deck (".xml" or ".yaml"/".yml"); throws DeckError if it cannot be read or parsed.
+Teuchos::RCP<Teuchos::ParameterList> readDeck(const std::string& path);
+
+// Checks the deck against validParameters() and fills in defaults, in place.
+void validateDeck(Teuchos::ParameterList& deck);
+
+// The valid parameters with defaults, as YAML, with one example entry per collection.
+void printDefaults(std::ostream& os);
+// The valid parameters with their documentation.
+void printHelp(std::ostream& os);
+
+}  // namespace impm

@@ -1,0 +1,42 @@
+// The nodes a particle talks to, with tensor-product weights and gradient weights,
+// computed from a 1D shape-function trait (LinearMpm or UniformGimp).
+#pragma once
+
+#include "core/ShapeFunctions.hpp"
+#include "core/StructuredGrid.hpp"
+
+namespace impm {
+
+template <class Shape>
+struct ParticleStencil {
+  static constexpr int N = Shape::max_nodes_1d;
+  int i0 = 0, j0 = 0, ni = 0, nj = 0;
+  double wx[N], gx[N], wy[N], gy[N];
+
+  // (x, y): particle centre; (lx, ly): half sizes of its domain.
+  KOKKOS_INLINE_FUNCTION
+  ParticleStencil(const StructuredGrid& g, double x, double y, double lx, double ly) {
+    build1d(x, g.x0, g.hx, lx, g.nx, i0, ni, wx, gx);
+    build1d(y, g.y0, g.hy, ly, g.ny, j0, nj, wy, gy);
+  }
+
+  KOKKOS_INLINE_FUNCTION double weight(int a, int b) const { return wx[a] * wy[b]; }
+  KOKKOS_INLINE_FUNCTION double gradX(int a, int b) const { return gx[a] * wy[b]; }
+  KOKKOS_INLINE_FUNCTION double gradY(int a, int b) const { return wx[a] * gy[b]; }
+
+ private:
+  KOKKOS_INLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,
+                                             int& first, int& count, double* w, double* gr) {
+    Shape::range((x - origin) / h, l / h, first, count);
+    // Nodes outside the grid carry (to round-off) zero weight: drop them.
+    if (first < 0) { count += first; first = 0; }
+    if (first + count > ncells + 1) count = ncells + 1 - first;
+    for (int a = 0; a < count; ++a) {
+      const double r = x - (origin + (first + a) * h);
+      w[a] = Shape::value(r, h, l);
+      gr[a] = Shape::gradient(r, h, l);
+    }
+  }
+};
+
+}  // namespace impm

@@ -1,0 +1,71 @@
+// Grid shape functions as small traits: each gives the 1D weight and gradient weight of a
+// node for a particle, and the range of nodes with non-zero weight. 2D weights are tensor
+// products (see ParticleStencil). Both traits are usable by the same kernels.
+#pragma once
+
+#include <Kokkos_Core.hpp>
+
+namespace impm {
+
+// floor(x) as an int, usable inside kernels (Kokkos 3.4 keeps floor in Experimental).
+KOKKOS_INLINE_FUNCTION int floorToInt(double x) {
+  const int i = static_cast<int>(x);
+  return x < i ? i - 1 : i;
+}
+
+// Linear MPM ("tent"): the particle is a point; S_ip = N_i(x_p).
+// r = x_p - x_i, h = cell size. The half domain size l is ignored.
+struct LinearMpm {
+  static constexpr int max_nodes_1d = 2;
+  static constexpr const char* name = "MPM";
+
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/) {
+    const double a = r < 0 ? -r : r;
+    return a < h ? 1.0 - a / h : 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/) {
+    const double a = r < 0 ? -r : r;
+    if (a >= h) return 0.0;
+    return r < 0 ? 1.0 / h : -1.0 / h;
+  }
+  // First node index (relative to the grid origin) of the stencil and its length.
+  KOKKOS_INLINE_FUNCTION static void range(double xi, double /*l_over_h*/, int& first, int& count) {
+    first = floorToInt(xi);
+    count = 2;
+  }
+};
+
+// Uniform GIMP (Bardenhagen & Kober 2004): the particle is a box of half size l (l <= h/2)
+// with characteristic function chi_p; S_ip = (1/V_p) int chi_p N_i dx, and the gradient
+// weight is (1/V_p) int chi_p dN_i/dx dx = dS_ip/dx_p. Closed forms per 1D interval.
+struct UniformGimp {
+  static constexpr int max_nodes_1d = 3;
+  static constexpr const char* name = "GIMP";
+
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double l) {
+    const double a = r < 0 ? -r : r;
+    if (a < l) return 1.0 - (r * r + l * l) / (2.0 * h * l);
+    if (a < h - l) return 1.0 - a / h;
+    if (a < h + l) {
+      const double s = h + l - a;
+      return s * s / (4.0 * h * l);
+    }
+    return 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double l) {
+    const double a = r < 0 ? -r : r;
+    const double sign = r < 0 ? -1.0 : 1.0;
+    if (a < l) return -r / (h * l);
+    if (a < h - l) return -sign / h;
+    if (a < h + l) return -sign * (h + l - a) / (2.0 * h * l);
+    return 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION static void range(double xi, double l_over_h, int& first, int& count) {
+    first = floorToInt(xi - l_over_h);
+    const int last = floorToInt(xi + l_over_h) + 1;
+    count = last - first + 1;
+    if (count > max_nodes_1d) count = max_nodes_1d;
+  }
+};
+
+}  // namespace impm

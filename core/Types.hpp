@@ -1,0 +1,34 @@
+// Scalar, ordinal and node types shared by every part of impm.
+#pragma once
+
+#include <Kokkos_Core.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Export.hpp>
+
+namespace impm {
+
+using Scalar = double;
+using LO = int;
+using GO = long long;
+// The one node type this Trilinos instantiates (OpenMP when built by cmake/setup-deps.sh).
+using Node = Tpetra::Map<LO, GO>::node_type;
+using ExecutionSpace = Node::execution_space;
+using MemorySpace = Node::memory_space;
+using DeviceType = Kokkos::Device<ExecutionSpace, MemorySpace>;
+
+using Map = Tpetra::Map<LO, GO, Node>;
+using Vector = Tpetra::Vector<Scalar, LO, GO, Node>;
+using MultiVector = Tpetra::MultiVector<Scalar, LO, GO, Node>;
+using Import = Tpetra::Import<LO, GO, Node>;
+using Export = Tpetra::Export<LO, GO, Node>;
+
+// Spatial dimension of this build. Kernels index vectors with `dim` so a 3D grid only
+// needs a third loop, not a rewrite of the data layout.
+constexpr int dim = 2;
+// Symmetric stress/strain in Voigt order xx, yy, xy (2D). sigma_zz is kept apart.
+constexpr int voigt = 3;
+
+}  // namespace impm

@@ -1,0 +1,83 @@
+// Grid-to-particle: interpolation of grid fields and of their gradients to particles.
+#pragma once
+
+#include "core/GridDistribution.hpp"
+#include "core/ParticleSet.hpp"
+#include "core/ParticleStencil.hpp"
+
+namespace impm {
+
+// Explicit update. From the ghosted grid kinematics (new velocity v_i and the acceleration
+// a_i = (v_i - v_i^old)/dt) it sets
+//   v_p <- flip (v_p + dt sum S a_i) + (1 - flip) sum S v_i,   a_p = sum S a_i,
+//   gradient_p = sum grad S (x) v_i  (for the stress update),  x_p <- x_p + dt sum S v_i.
+// The weights are those of the particle position at the start of the step.
+template <class ExecSpace, class Shape, class GridView>
+void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                            const GridView& kinematics, double dt, double flip, bool movePositions) {
+  auto x = ps.x; auto hs = ps.halfSize; auto v = ps.v; auto a = ps.a; auto L = ps.gradient;
+  Kokkos::parallel_for(
+      "g2p", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        double vx = 0, vy = 0, ax = 0, ay = 0, l00 = 0, l01 = 0, l10 = 0, l11 = 0;
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = st.weight(aI, bJ), dx = st.gradX(aI, bJ), dy = st.gradY(aI, bJ);
+            const double gvx = kinematics(n, kin::VelX), gvy = kinematics(n, kin::VelY);
+            vx += w * gvx; vy += w * gvy;
+            ax += w * kinematics(n, kin::AccX); ay += w * kinematics(n, kin::AccY);
+            l00 += gvx * dx; l01 += gvx * dy; l10 += gvy * dx; l11 += gvy * dy;
+          }
+        v(p, 0) = flip * (v(p, 0) + dt * ax) + (1.0 - flip) * vx;
+        v(p, 1) = flip * (v(p, 1) + dt * ay) + (1.0 - flip) * vy;
+        a(p, 0) = ax; a(p, 1) = ay;
+        L(p, 0, 0) = l00; L(p, 0, 1) = l01; L(p, 1, 0) = l10; L(p, 1, 1) = l11;
+        if (movePositions) {
+          x(p, 0) += dt * vx;
+          x(p, 1) += dt * vy;
+        }
+      });
+}
+
+// gradient_p = sum_i grad S_ip (x) w_i for a two-component grid field in columns col, col+1.
+template <class ExecSpace, class Shape, class GridView>
+void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                             const GridView& field, int col) {
+  auto x = ps.x; auto hs = ps.halfSize; auto L = ps.gradient;
+  Kokkos::parallel_for(
+      "grid_gradient", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        double l00 = 0, l01 = 0, l10 = 0, l11 = 0;
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double dx = st.gradX(aI, bJ), dy = st.gradY(aI, bJ);
+            const double wx = field(n, col), wy = field(n, col + 1);
+            l00 += wx * dx; l01 += wx * dy; l10 += wy * dx; l11 += wy * dy;
+          }
+        L(p, 0, 0) = l00; L(p, 0, 1) = l01; L(p, 1, 0) = l10; L(p, 1, 1) = l11;
+      });
+}
+
+// Positions only: x_p += dt sum S v_i (MUSL/USF move particles with the new grid velocity).
+template <class ExecSpace, class Shape, class GridView>
+void moveParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                   const GridView& field, int col, double scale) {
+  auto x = ps.x; auto hs = ps.halfSize;
+  Kokkos::parallel_for(
+      "move_particles", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        double ux = 0, uy = 0;
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = st.weight(aI, bJ);
+            ux += w * field(n, col); uy += w * field(n, col + 1);
+          }
+        x(p, 0) += scale * ux;
+        x(p, 1) += scale * uy;
+      });
+}
+
+}  // namespace impm

@@ -1,0 +1,96 @@
+// Particle-to-grid: mass, momentum and particle point forces, scattered into the ghosted
+// grid sums through a Kokkos ScatterView (duplicated per thread on OpenMP, atomic on GPUs).
+#pragma once
+
+#include <Kokkos_ScatterView.hpp>
+
+#include "core/GridDistribution.hpp"
+#include "core/ParticleSet.hpp"
+#include "core/ParticleStencil.hpp"
+
+namespace impm {
+
+// Adds m_p S_ip, m_p v_p S_ip (and m_p a_p S_ip into `accColumn` when >= 0) to `grid`.
+template <class ExecSpace, class Shape, class GridView>
+void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                                const GridView& grid, int massCol, int momCol, int accCol = -1) {
+  auto sv = Kokkos::Experimental::create_scatter_view(grid);
+  auto x = ps.x; auto hs = ps.halfSize; auto m = ps.mass; auto v = ps.v; auto a = ps.a;
+  Kokkos::parallel_for(
+      "p2g", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        auto out = sv.access();
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        const double mp = m(p), vx = v(p, 0), vy = v(p, 1);
+        const double ax = accCol >= 0 ? a(p, 0) : 0.0, ay = accCol >= 0 ? a(p, 1) : 0.0;
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = mp * st.weight(aI, bJ);
+            out(n, massCol) += w;
+            out(n, momCol) += w * vx;
+            out(n, momCol + 1) += w * vy;
+            if (accCol >= 0) {
+              out(n, accCol) += w * ax;
+              out(n, accCol + 1) += w * ay;
+            }
+          }
+      });
+  GridView dest = grid;  // contribute() takes a non-const view
+  Kokkos::Experimental::contribute(dest, sv);
+}
+
+// Residual of the consistent-mass projection of the particle velocities onto the grid,
+//   r_i = sum_p m_p S_ip (v_p - sum_j S_jp v_j) = p_i - M_C v,
+// for grid velocities v in columns velCol, velCol+1 of `velocity`. One Jacobi correction
+// v += M_L^-1 r removes the O(h^2) smoothing that the lumped projection M_L^-1 p applies to
+// a velocity field every step (see ExplicitStepper).
+template <class ExecSpace, class Shape, class VelocityView, class GridView>
+void particleToGridProjectionResidual(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                                      const VelocityView& velocity, int velCol, const GridView& grid, int outCol) {
+  auto sv = Kokkos::Experimental::create_scatter_view(grid);
+  auto x = ps.x; auto hs = ps.halfSize; auto m = ps.mass; auto v = ps.v;
+  Kokkos::parallel_for(
+      "p2g_projection_residual", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        auto out = sv.access();
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        double vx = 0, vy = 0;
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = st.weight(aI, bJ);
+            vx += w * velocity(n, velCol);
+            vy += w * velocity(n, velCol + 1);
+          }
+        const double rx = m(p) * (v(p, 0) - vx), ry = m(p) * (v(p, 1) - vy);
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = st.weight(aI, bJ);
+            out(n, outCol) += w * rx;
+            out(n, outCol + 1) += w * ry;
+          }
+      });
+  GridView dest = grid;
+  Kokkos::Experimental::contribute(dest, sv);
+}
+
+// Point forces carried by particles: force(k) * S_ip for particle index(k).
+template <class ExecSpace, class Shape, class GridView, class IndexView, class ForceView>
+void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                          const IndexView& index, const ForceView& force, const GridView& grid, int forceCol) {
+  auto x = ps.x; auto hs = ps.halfSize;
+  Kokkos::parallel_for(
+      "p2g_point_forces", Kokkos::RangePolicy<ExecSpace>(0, index.extent(0)), KOKKOS_LAMBDA(int k) {
+        const int p = index(k);
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = st.weight(aI, bJ);
+            Kokkos::atomic_add(&grid(n, forceCol), w * force(k, 0));
+            Kokkos::atomic_add(&grid(n, forceCol + 1), w * force(k, 1));
+          }
+      });
+}
+
+}  // namespace impm

@@ -1,0 +1,23 @@
+// The material body: a rectangle of the grid filled with particles, and how to create them.
+#pragma once
+
+#include "core/GridDistribution.hpp"
+#include "core/ParticleSet.hpp"
+#include "physics/LinearElastic.hpp"
+
+namespace impm {
+
+struct RectangularBody {
+  double xMin = 0, xMax = 1, yMin = 0, yMax = 1;
+  int particlesPerCellX = 2, particlesPerCellY = 2;
+  double thickness = 1.0;  // out of plane
+
+  double length() const { return xMax - xMin; }
+  double height() const { return yMax - yMin; }
+};
+
+// Particles of the body in the cell columns this rank owns: a regular ppcx x ppcy lattice per
+// cell, each particle the centre of its own sub-box (its GIMP domain).
+ParticleSet createParticles(const RectangularBody& body, const LinearElastic& mat, const GridDistribution& dist);
+
+}  // namespace impm

@@ -1,0 +1,179 @@
+#include "solvers/ExplicitStepper.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+
+namespace impm {
+
+template <class Shape>
+ExplicitStepper<Shape>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
+                                        const LinearElastic& material, const NodalConstraints& constraints,
+                                        const LoadSet& loads, const ExplicitOptions& options)
+    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), fields_(dist) {
+  scratchOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2));
+  scratchGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
+  residualGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
+  // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
+  double local = 0.0;
+  auto mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps_.mass);
+  for (int p = 0; p < ps_.count; ++p) local = std::max(local, mh(p));
+  double global = 0.0;
+  Teuchos::reduceAll(*dist.comm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
+  massCutoff_ = opt_.massTolerance * global;
+}
+
+template <class Shape>
+std::string ExplicitStepper<Shape>::name() const {
+  const char* s = opt_.scheme == ExplicitScheme::USF ? "USF" : opt_.scheme == ExplicitScheme::USL ? "USL" : "MUSL";
+  return std::string("explicit ") + Shape::name + " " + s;
+}
+
+template <class Shape>
+void ExplicitStepper<Shape>::particleToGridMomentum() {
+  fields_.accumGhosted->putScalar(0.0);
+  auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
+  particleToGridMassMomentum<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::Mass, accum::MomX);
+}
+
+template <class Shape>
+void ExplicitStepper<Shape>::particleToGridForces(double t) {
+  auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
+  accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, accum::FintX);
+  if (loads_.hasParticleForces())
+    impm::particleToGridForces<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, loads_.particleIndices(),
+                                            loads_.particleForces(t), grid, accum::FextX);
+}
+
+template <class Shape>
+void ExplicitStepper<Shape>::gridUpdate(double dt, bool withForces) {
+  auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto kinv = fields_.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
+  const double cutoff = massCutoff_;
+  Kokkos::parallel_for(
+      "grid_update", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
+        const double m = acc(n, accum::Mass);
+        if (m <= cutoff) {
+          for (int c = 0; c < kin::Count; ++c) kinv(n, c) = 0.0;
+          return;
+        }
+        for (int d = 0; d < 2; ++d) {
+          const double v = acc(n, accum::MomX + d) / m;
+          const double a = withForces ? (acc(n, accum::FintX + d) + acc(n, accum::FextX + d)) / m : 0.0;
+          kinv(n, kin::VelX + d) = v + dt * a;
+          kinv(n, kin::AccX + d) = a;
+        }
+      });
+  // A fixed component has zero velocity and zero acceleration.
+  bc_.template apply<Exec>(kinv, kin::VelX);
+  bc_.template apply<Exec>(kinv, kin::AccX);
+}
+
+// The lumped projection v_i = p_i / m_i of particle momentum smooths a velocity field by
+// M_L^-1 M_C every step: for a wave of number k on cells of size h it scales the grid
+// velocity by about 1 - (kh)^2/6, which adds twice the lumped-mass dispersion again. Each
+// Jacobi iteration v += M_L^-1 (p - M_C v) squares that factor's deviation from 1.
+template <class Shape>
+void ExplicitStepper<Shape>::correctProjection() {
+  const double cutoff = massCutoff_;
+  for (int it = 0; it < opt_.projectionIterations; ++it) {
+    {
+      auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
+      auto vel = scratchOwned_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
+      Kokkos::parallel_for(
+          "projection_velocity", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
+            const double m = acc(n, accum::Mass);
+            vel(n, 0) = m > cutoff ? acc(n, accum::MomX) / m : 0.0;
+            vel(n, 1) = m > cutoff ? acc(n, accum::MomY) / m : 0.0;
+          });
+      bc_.template apply<Exec>(vel, 0);
+    }
+    scratchGhosted_->doImport(*scratchOwned_, *dist_.importer(), Tpetra::INSERT);
+    // The residual goes to its own ghosted pair (the accumulator's columns hold this step's sums).
+    residualGhosted_->putScalar(0.0);
+    {
+      auto vel = scratchGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+      auto res = residualGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+      particleToGridProjectionResidual<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, vel, 0, res, 0);
+    }
+    scratchOwned_->putScalar(0.0);
+    scratchOwned_->doExport(*residualGhosted_, *dist_.importer(), Tpetra::ADD);
+    auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    auto res = scratchOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    Kokkos::parallel_for(
+        "projection_correction", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
+          // m v_new = m v + r  <=>  p_new = p + r
+          acc(n, accum::MomX) += res(n, 0);
+          acc(n, accum::MomY) += res(n, 1);
+        });
+  }
+}
+
+template <class Shape>
+void ExplicitStepper<Shape>::stressFromGhostedVelocity(double dt, bool fromAccum) {
+  if (fromAccum) {
+    auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::MomX);
+  } else {
+    auto grid = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, kin::VelX);
+  }
+  updateStress<Exec>(ps_, mat_, dt);
+}
+
+template <class Shape>
+void ExplicitStepper<Shape>::step(double t, double dt) {
+  const StructuredGrid& g = dist_.grid();
+  const LocalNodeIndexer& gix = dist_.ghostedIndexer();
+
+  particleToGridMomentum();
+  if (opt_.scheme == ExplicitScheme::USF) {
+    // Stress first, from the velocity of the particle momentum.
+    fields_.exportAccumulated();
+    correctProjection();
+    gridUpdate(dt, false);
+    fields_.importKinematics();
+    stressFromGhostedVelocity(dt, false);
+  }
+  particleToGridForces(t);
+  fields_.exportAccumulated();
+  correctProjection();
+  {
+    auto owned = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    loads_.template applyNodal<Exec>(owned, accum::FextX, t);
+  }
+  gridUpdate(dt, true);
+  fields_.importKinematics();
+
+  {
+    auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const bool moveNow = opt_.scheme != ExplicitScheme::MUSL;
+    gridToParticleExplicit<Exec, Shape>(g, gix, ps_, kinv, dt, opt_.flip, moveNow);
+  }
+  if (opt_.scheme == ExplicitScheme::USL) {
+    updateStress<Exec>(ps_, mat_, dt);  // g2p left grad v^{n+1} in ps_.gradient
+  } else if (opt_.scheme == ExplicitScheme::MUSL) {
+    // Re-map the updated particle momentum, then the stress from that velocity field.
+    particleToGridMomentum();
+    fields_.exportAccumulated();
+    correctProjection();
+    {
+      auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadWrite);
+      const double cutoff = massCutoff_;
+      Kokkos::parallel_for(
+          "musl_velocity", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
+            const double m = acc(n, accum::Mass);
+            acc(n, accum::MomX) = m > cutoff ? acc(n, accum::MomX) / m : 0.0;
+            acc(n, accum::MomY) = m > cutoff ? acc(n, accum::MomY) / m : 0.0;
+          });
+      bc_.template apply<Exec>(acc, accum::MomX);
+    }
+    fields_.accumGhosted->doImport(*fields_.accumOwned, *dist_.importer(), Tpetra::INSERT);
+    stressFromGhostedVelocity(dt, true);
+    auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    moveParticles<Exec, Shape>(g, gix, ps_, kinv, kin::VelX, dt);
+  }
+}
+
+template class ExplicitStepper<LinearMpm>;
+template class ExplicitStepper<UniformGimp>;
+
+}  // namespace impm
