@@ -36,27 +36,36 @@ struct LinearElastic {
   std::string planeName() const { return plane == PlaneCondition::PlaneStrain ? "plane strain" : "plane stress"; }
 };
 
-// sigma_p <- sigma_p + D * sym(scale * gradient_p); F_p <- (I + scale * gradient_p) F_p and
-// V_p = V0_p det F_p. Explicit: gradient = grad v, scale = dt.
+// One particle's update from a displacement-gradient increment G = scale * gradient:
+// sigma <- sigma + D sym(G), F <- (I + G) F, V = V0 det F. Written once, used by the
+// stress-update kernel and inside the fused grid-to-particle kernel.
+struct StressIncrement {
+  double c11, c12, c33, czz;
+  explicit StressIncrement(const LinearElastic& m) : c11(m.c11()), c12(m.c12()), c33(m.c33()), czz(m.czz()) {}
+
+  KOKKOS_INLINE_FUNCTION void operator()(const ParticleSet& ps, int p, double dxx, double dxy, double dyx,
+                                         double dyy) const {
+    const double gxy = dxy + dyx;  // engineering shear strain increment
+    ps.stress(p, 0) += c11 * dxx + c12 * dyy;
+    ps.stress(p, 1) += c12 * dxx + c11 * dyy;
+    ps.stress(p, 2) += c33 * gxy;
+    ps.stress(p, 3) += czz * (dxx + dyy);
+    const double f00 = ps.F(p, 0, 0), f01 = ps.F(p, 0, 1), f10 = ps.F(p, 1, 0), f11 = ps.F(p, 1, 1);
+    const double n00 = (1 + dxx) * f00 + dxy * f10, n01 = (1 + dxx) * f01 + dxy * f11;
+    const double n10 = dyx * f00 + (1 + dyy) * f10, n11 = dyx * f01 + (1 + dyy) * f11;
+    ps.F(p, 0, 0) = n00; ps.F(p, 0, 1) = n01; ps.F(p, 1, 0) = n10; ps.F(p, 1, 1) = n11;
+    ps.volume(p) = ps.volume0(p) * (n00 * n11 - n01 * n10);
+  }
+};
+
+// Applies StressIncrement to every particle with G = scale * ps.gradient (explicit: grad v, dt).
 template <class ExecSpace>
 void updateStress(const ParticleSet& ps, const LinearElastic& mat, double scale) {
-  auto L = ps.gradient; auto s = ps.stress; auto F = ps.F; auto V = ps.volume; auto V0 = ps.volume0;
-  const double c11 = mat.c11(), c12 = mat.c12(), c33 = mat.c33(), czz = mat.czz();
+  const StressIncrement inc(mat);
+  auto L = ps.gradient;
   Kokkos::parallel_for(
       "stress_update", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-        const double dxx = scale * L(p, 0, 0), dxy = scale * L(p, 0, 1);
-        const double dyx = scale * L(p, 1, 0), dyy = scale * L(p, 1, 1);
-        const double gxy = dxy + dyx;  // engineering shear strain increment
-        s(p, 0) += c11 * dxx + c12 * dyy;
-        s(p, 1) += c12 * dxx + c11 * dyy;
-        s(p, 2) += c33 * gxy;
-        s(p, 3) += czz * (dxx + dyy);
-        const double f00 = F(p, 0, 0), f01 = F(p, 0, 1), f10 = F(p, 1, 0), f11 = F(p, 1, 1);
-        F(p, 0, 0) = (1 + dxx) * f00 + dxy * f10;
-        F(p, 0, 1) = (1 + dxx) * f01 + dxy * f11;
-        F(p, 1, 0) = dyx * f00 + (1 + dyy) * f10;
-        F(p, 1, 1) = dyx * f01 + (1 + dyy) * f11;
-        V(p) = V0(p) * (F(p, 0, 0) * F(p, 1, 1) - F(p, 0, 1) * F(p, 1, 0));
+        inc(ps, p, scale * L(p, 0, 0), scale * L(p, 0, 1), scale * L(p, 1, 0), scale * L(p, 1, 1));
       });
 }
 

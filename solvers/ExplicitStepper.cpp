@@ -35,9 +35,14 @@ void ExplicitStepper<Shape>::particleToGridMomentum() {
 }
 
 template <class Shape>
-void ExplicitStepper<Shape>::particleToGridForces(double t) {
+void ExplicitStepper<Shape>::particleToGridForces(double t, bool withMomentum) {
+  if (withMomentum) fields_.accumGhosted->putScalar(0.0);
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
-  accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, accum::FintX);
+  if (withMomentum)
+    particleToGridMomentumAndForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::Mass,
+                                                accum::MomX, accum::FintX);
+  else
+    accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, accum::FintX);
   if (loads_.hasParticleForces())
     impm::particleToGridForces<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, loads_.particleIndices(),
                                             loads_.particleForces(t), grid, accum::FextX);
@@ -124,16 +129,17 @@ void ExplicitStepper<Shape>::step(double t, double dt) {
   const StructuredGrid& g = dist_.grid();
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
 
-  particleToGridMomentum();
-  if (opt_.scheme == ExplicitScheme::USF) {
+  const bool usf = opt_.scheme == ExplicitScheme::USF;
+  if (usf) {
     // Stress first, from the velocity of the particle momentum.
+    particleToGridMomentum();
     fields_.exportAccumulated();
     correctProjection();
     gridUpdate(dt, false);
     fields_.importKinematics();
     stressFromGhostedVelocity(dt, false);
   }
-  particleToGridForces(t);
+  particleToGridForces(t, !usf);
   fields_.exportAccumulated();
   correctProjection();
   {
@@ -145,12 +151,12 @@ void ExplicitStepper<Shape>::step(double t, double dt) {
 
   {
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const bool moveNow = opt_.scheme != ExplicitScheme::MUSL;
-    gridToParticleExplicit<Exec, Shape>(g, gix, ps_, kinv, dt, opt_.flip, moveNow);
+    const bool usl = opt_.scheme == ExplicitScheme::USL;
+    // USL: the stress update from grad v^{n+1} runs inside g2p.
+    gridToParticleExplicit<Exec, Shape>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
+                                        usl ? &mat_ : nullptr);
   }
-  if (opt_.scheme == ExplicitScheme::USL) {
-    updateStress<Exec>(ps_, mat_, dt);  // g2p left grad v^{n+1} in ps_.gradient
-  } else if (opt_.scheme == ExplicitScheme::MUSL) {
+  if (opt_.scheme == ExplicitScheme::MUSL) {
     // Re-map the updated particle momentum, then the stress from that velocity field.
     particleToGridMomentum();
     fields_.exportAccumulated();

@@ -40,7 +40,7 @@ class ExplicitStepper : public Integrator {
   // Velocity (and acceleration when withForces) on owned nodes from the summed grid fields.
   void gridUpdate(double dt, bool withForces);
   void particleToGridMomentum();
-  void particleToGridForces(double t);
+  void particleToGridForces(double t, bool withMomentum);
   void stressFromGhostedVelocity(double dt, bool fromAccum);
   void correctProjection();
 

@@ -7,6 +7,7 @@
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
 #include "core/ParticleStencil.hpp"
+#include "core/kernels/InternalForce.hpp"
 
 namespace impm {
 
@@ -36,6 +37,32 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
           }
       });
   GridView dest = grid;  // contribute() takes a non-const view
+  Kokkos::Experimental::contribute(dest, sv);
+}
+
+// The explicit stepper's fused transfer: mass, momentum and internal force in one pass over
+// the particles (one stencil evaluation per particle).
+template <class ExecSpace, class Shape, class GridView>
+void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                                    const GridView& grid, int massCol, int momCol, int forceCol) {
+  auto sv = Kokkos::Experimental::create_scatter_view(grid);
+  auto x = ps.x; auto hs = ps.halfSize; auto m = ps.mass; auto v = ps.v; auto vol = ps.volume; auto s = ps.stress;
+  Kokkos::parallel_for(
+      "p2g", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        auto out = sv.access();
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        const double mp = m(p), vx = v(p, 0), vy = v(p, 1);
+        for (int aI = 0; aI < st.ni; ++aI)
+          for (int bJ = 0; bJ < st.nj; ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = mp * st.weight(aI, bJ);
+            out(n, massCol) += w;
+            out(n, momCol) += w * vx;
+            out(n, momCol + 1) += w * vy;
+          }
+        scatterInternalForce(st, ix, vol(p), s(p, 0), s(p, 1), s(p, 2), out, forceCol);
+      });
+  GridView dest = grid;
   Kokkos::Experimental::contribute(dest, sv);
 }
 
