@@ -4,9 +4,10 @@
 // valid parameters (filling in defaults), builds the grid, particles and integrator, runs,
 // and writes history.csv, summary.yaml, VTU/PVD files and, with an exact solution, plot.png.
 //
-// Sample run (the seed's traveling-wave bar, explicit MPM, plane stress):
+// Sample runs (the seed's traveling-wave bar, explicit MPM; its beam, implicit GIMP):
 //   build/apps/impm apps/bar_explicit_mpm_plane_stress.yaml --output out/bar
-//   OMP_NUM_THREADS=2 mpirun -np 2 build/apps/impm apps/bar_explicit_gimp_plane_strain.yaml
+//   build/apps/impm apps/beam_implicit_gimp_plane_strain.yaml
+//   OMP_NUM_THREADS=1 mpirun -np 2 build/apps/impm apps/bar_explicit_gimp_plane_strain.yaml
 //
 // Options:
 //   --output DIR        override the deck's Problem/Output Directory
@@ -19,6 +20,7 @@
 #include <string>
 
 #include "core/InputDeck.hpp"
+#include "solvers/NewtonSolver.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {
@@ -37,10 +39,10 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
-      if (root) { usage(std::cout); impm::printHelp(std::cout); }
+      if (root) { usage(std::cout); impm::printHelp(std::cout, {{"Implicit Solver", impm::NewtonSolver::validParameters()}}); }
       return 0;
     } else if (a == "--print-defaults") {
-      if (root) impm::printDefaults(std::cout);
+      if (root) impm::printDefaults(std::cout, {{"Implicit Solver", impm::NewtonSolver::validParameters()}});
       return 0;
     } else if (a == "--output") {
       if (i + 1 >= argc) { if (root) std::cerr << "impm: error: --output needs a directory\n"; return 2; }

@@ -34,7 +34,7 @@ void choice(ParameterList& pl, const std::string& key, const std::string& def,
 
 const std::set<std::string> kCollections = {"Constraints", "Loads", "Monitors"};
 // Sublists handed unchanged to Trilinos packages, which validate them themselves.
-const std::set<std::string> kPassThrough = {};
+const std::set<std::string> kPassThrough = {"Implicit Solver"};
 
 std::string valueString(const Teuchos::ParameterEntry& e) {
   std::ostringstream os;
@@ -177,7 +177,8 @@ RCP<const ParameterList> validParameters() {
   }
   {
     ParameterList& p = valid->sublist("Integrator", false, "time integration");
-    choice(p, "Type", "Explicit", {"Explicit"}, "time integrator");
+    choice(p, "Type", "Explicit", {"Explicit", "Implicit"},
+           "Explicit: USF/USL/MUSL; Implicit: Newmark average acceleration solved by Newton (see Implicit Solver)");
     number(p, "Time Step", 1.0e-8, "dt (s)");
     p.set("Number of Steps", 100, "number of time steps");
     ParameterList& e = p.sublist("Explicit", false, "explicit integrator options");
@@ -189,7 +190,14 @@ RCP<const ParameterList> validParameters() {
           "and about triples the lumped-mass wave dispersion; 1 removes that to O((kh)^4)");
     number(e, "Stability Factor", 1.0,
            "dt must not exceed this factor times (smallest cell size) / (P-wave speed)");
+    ParameterList& im = p.sublist("Implicit", false, "implicit integrator options");
+    im.set("Maximum Step Halvings", 4, "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
+    im.set("Consistent Initial Acceleration", true,
+           "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   }
+  valid->sublist("Implicit Solver", false,
+                 "Newton solver of the implicit step (NOX, Belos, Ifpack2, Amesos2); validated by the solver, "
+                 "see --print-defaults").disableRecursiveValidation();
   valid->sublist("Constraints", false, "named sublists, each a displacement constraint (see --print-defaults)")
       .disableRecursiveValidation();
   valid->sublist("Loads", false, "named sublists, each an external load").disableRecursiveValidation();
@@ -249,15 +257,17 @@ void validateDeck(ParameterList& deck) {
   }
 }
 
-void printDefaults(std::ostream& os) {
+void printDefaults(std::ostream& os, const std::map<std::string, RCP<const ParameterList>>& extra) {
   ParameterList full(*validParameters());
+  for (const auto& [name, list] : extra) full.set(name, *list);
   for (const auto& c : kCollections) full.sublist(c).set("example", *collectionTemplate(c));
   Teuchos::writeParameterListToYamlOStream(full, os);
 }
 
-void printHelp(std::ostream& os) {
+void printHelp(std::ostream& os, const std::map<std::string, RCP<const ParameterList>>& extra) {
   os << "Valid parameters (type, default and meaning); collections take any number of named entries:\n";
   ParameterList full(*validParameters());
+  for (const auto& [name, list] : extra) full.set(name, *list);
   for (const auto& c : kCollections) full.sublist(c).set("<name>", *collectionTemplate(c));
   full.print(os, ParameterList::PrintOptions().showDoc(true).indent(2).showTypes(true));
 }

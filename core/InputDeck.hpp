@@ -5,6 +5,7 @@
 
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -26,9 +27,11 @@ Teuchos::RCP<Teuchos::ParameterList> readDeck(const std::string& path);
 // Checks the deck against validParameters() and fills in defaults, in place.
 void validateDeck(Teuchos::ParameterList& deck);
 
+// Sublists validated by the package that reads them (e.g. "Implicit Solver"), for printing.
+using SublistDefaults = std::map<std::string, Teuchos::RCP<const Teuchos::ParameterList>>;
 // The valid parameters with defaults, as YAML, with one example entry per collection.
-void printDefaults(std::ostream& os);
+void printDefaults(std::ostream& os, const SublistDefaults& extra = {});
 // The valid parameters with their documentation.
-void printHelp(std::ostream& os);
+void printHelp(std::ostream& os, const SublistDefaults& extra = {});
 
 }  // namespace impm

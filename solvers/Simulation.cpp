@@ -17,6 +17,7 @@
 #include "core/InputDeck.hpp"
 #include "core/output/VtkWriter.hpp"
 #include "solvers/ExplicitStepper.hpp"
+#include "solvers/ImplicitNewmark.hpp"
 
 #ifndef IMPM_PLOT_SCRIPT
 #define IMPM_PLOT_SCRIPT "apps/plot_history.py"
@@ -228,8 +229,33 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   }
 
   const bool gimp = deck_.sublist("Method").get<std::string>("Shape Function") == "GIMP";
-  if (gimp) integrator_ = std::make_unique<ExplicitStepper<UniformGimp>>(particles_, *dist_, material_, constraints_, loads_, eopt);
-  else integrator_ = std::make_unique<ExplicitStepper<LinearMpm>>(particles_, *dist_, material_, constraints_, loads_, eopt);
+  // Solver options are checked whatever the integrator, so that a bad one never waits for a
+  // later implicit run to be found.
+  if (integratorType != "Implicit") {
+    try {
+      NewtonSolver check(Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver"))));
+    } catch (const std::invalid_argument& e) {
+      throw DeckError(e.what());
+    }
+  }
+  if (integratorType == "Implicit") {
+    const ParameterList& im = in.sublist("Implicit");
+    ImplicitOptions iopt;
+    iopt.maxStepHalvings = im.get<int>("Maximum Step Halvings");
+    if (iopt.maxStepHalvings < 0) throw DeckError("'Integrator/Implicit/Maximum Step Halvings' must not be negative");
+    iopt.consistentInitialAcceleration = im.get<bool>("Consistent Initial Acceleration");
+    iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
+    try {
+      if (gimp) integrator_ = std::make_unique<ImplicitNewmark<UniformGimp>>(particles_, *dist_, material_, constraints_, loads_, iopt);
+      else integrator_ = std::make_unique<ImplicitNewmark<LinearMpm>>(particles_, *dist_, material_, constraints_, loads_, iopt);
+    } catch (const std::invalid_argument& e) {
+      throw DeckError(e.what());
+    }
+  } else if (gimp) {
+    integrator_ = std::make_unique<ExplicitStepper<UniformGimp>>(particles_, *dist_, material_, constraints_, loads_, eopt);
+  } else {
+    integrator_ = std::make_unique<ExplicitStepper<LinearMpm>>(particles_, *dist_, material_, constraints_, loads_, eopt);
+  }
 }
 
 double Simulation::monitorValue(const Monitor& mon) const {
@@ -333,7 +359,19 @@ RunResult Simulation::run(std::ostream& log) {
   bool printedProgress = false;
   for (int n = 0; n < steps_; ++n) {
     const double t = n * dt_;
-    integrator_->step(t, dt_);
+    try {
+      integrator_->step(t, dt_);
+    } catch (const NewtonNotConverged& e) {
+      // Keep what was computed: the history so far, the last converged particles and a summary.
+      if (rank == 0) csv.close();
+      writeVtk(t);
+      r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
+      r.steps = n;
+      r.status = std::string("stopped: ") + e.what();
+      if (rank == 0) writeSummary(r);
+      throw std::runtime_error(std::string(e.what()) + "; the last converged state (t = " + fmt(t) +
+                               " s) is in " + outputDir_);
+    }
     const double tNew = (n + 1) * dt_;
     if ((n + 1) % historyInterval == 0 || n + 1 == steps_) record(tNew);
     if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);
@@ -399,6 +437,7 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Execution Space", std::string(ExecutionSpace::name()));
   s.set("Wall Time", r.wallSeconds);
   s.set("Particle Steps Per Second", r.particleStepsPerSecond);
+  s.set("Status", r.status);
   s.set("Exact Solution", exactType_);
   if (hasExact()) {
     s.set("Exact Modulus", exactModulus_);

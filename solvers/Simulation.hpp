@@ -34,6 +34,7 @@ struct RunResult {
   long long particles = 0;
   int steps = 0;
   double particleStepsPerSecond = 0;
+  std::string status = "completed";
   std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history
   std::vector<double> time;                  // the recorded history
   std::map<std::string, std::vector<double>> computed, exact;

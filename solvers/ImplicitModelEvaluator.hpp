@@ -1,0 +1,117 @@
+// Thyra model evaluator over a ResidualModel (solvers/NewtonSolver.hpp), and the preconditioners
+// (Ifpack2, or a gathered direct solve) it builds from the assembled matrix P.
+//
+// Supports IN_ARG_x, OUT_ARG_f, OUT_ARG_W_prec (when a preconditioner is configured) and OUT_ARG_W_op
+// (assembled Newton: W_op is a Thyra::TpetraLinearOp re-pointed at the current P). For Jacobian-free
+// Newton-Krylov wrap it in NOX::MatrixFreeModelEvaluatorDecorator, which supplies the W_op.
+// Built per NewtonSolver::solve() because the unknown map may change between time steps; the
+// preconditioner cache outlives it so that an unchanged matrix graph is not set up again.
+#pragma once
+
+#include "solvers/NewtonSolver.hpp"
+
+#include <Ifpack2_Preconditioner.hpp>
+#include <Teuchos_ParameterList.hpp>
+#include <Thyra_StateFuncModelEvaluatorBase.hpp>
+
+#include <string>
+
+namespace impm {
+
+using RowMatrix = Tpetra::RowMatrix<Scalar, LO, GO, Node>;
+using TpetraOperator = Tpetra::Operator<Scalar, LO, GO, Node>;
+using Ifpack2Preconditioner = Ifpack2::Preconditioner<Scalar, LO, GO, Node>;
+
+// An approximate (or exact) inverse of P, kept up to date with the matrix it is handed. Collective.
+class PreconditionerCache {
+ public:
+  virtual ~PreconditionerCache() = default;
+  // Brings the operator up to date with P (fill complete, maps equal to the unknown map).
+  virtual Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P) = 0;
+  // Symbolic setups (Ifpack2 initialize(), symbolic factorisation) so far.
+  virtual int initializations() const = 0;
+};
+
+// An Ifpack2 preconditioner of a given type: initialize() (symbolic) when P is a new object or its
+// graph may have changed, compute() (numeric) on every update.
+class IfpackPreconditionerCache : public PreconditionerCache {
+ public:
+  // Throws std::invalid_argument naming 'Implicit Solver/Preconditioner' or 'Implicit Solver/Ifpack2'
+  // when Ifpack2 does not know `type` or rejects `params` (checked on a 1x1 matrix, not collective).
+  IfpackPreconditionerCache(const std::string& type, const Teuchos::ParameterList& params);
+
+  Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P) override;
+  int initializations() const override { return initializations_; }
+
+  const std::string& type() const { return type_; }
+  int computations() const { return computations_; }
+
+ private:
+  Teuchos::RCP<Ifpack2Preconditioner> create(const Teuchos::RCP<const CrsMatrix>& P) const;
+
+  std::string type_;
+  Teuchos::ParameterList params_;
+  Teuchos::RCP<Ifpack2Preconditioner> prec_;
+  Teuchos::RCP<const CrsMatrix> matrix_;  // held so its address cannot be reused by a new matrix
+  int initializations_ = 0, computations_ = 0;
+};
+
+// P^{-1} by sparse LU (Amesos2 KLU2) of P gathered onto rank 0: works around Amesos2 13.2, whose KLU2
+// returns wrong solutions for a matrix distributed over several ranks (it is right on one rank, which
+// is how it is used here: on a serial communicator). Every update refactors; apply() gathers the
+// vectors to rank 0 and scatters the solution back. Meant for moderate sizes (a direct solve).
+class GatheredDirectInverse : public PreconditionerCache {
+ public:
+  GatheredDirectInverse();
+  ~GatheredDirectInverse() override;
+  Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P) override;
+  int initializations() const override { return factorizations_; }
+
+ private:
+  class Op;
+  Teuchos::RCP<Op> op_;
+  int factorizations_ = 0;
+};
+
+class ImplicitModelEvaluator : public Thyra::StateFuncModelEvaluatorBase<double> {
+ public:
+  // supportsWop: advertise OUT_ARG_W_op (assembled Newton). prec: null for no preconditioner.
+  ImplicitModelEvaluator(ResidualModel& model, const Teuchos::RCP<const Map>& map,
+                         const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& W_factory,
+                         bool supportsWop, const Teuchos::RCP<PreconditionerCache>& prec);
+
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_x_space() const override { return space_; }
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_f_space() const override { return space_; }
+  Thyra::ModelEvaluatorBase::InArgs<double> createInArgs() const override;
+  // An uninitialised Thyra::TpetraLinearOp; evalModel points it at P.
+  Teuchos::RCP<Thyra::LinearOpBase<double>> create_W_op() const override;
+  // A Thyra::DefaultPreconditioner; evalModel sets its right operator to the Ifpack2 preconditioner.
+  Teuchos::RCP<Thyra::PreconditionerBase<double>> create_W_prec() const override;
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> get_W_factory() const override {
+    return W_factory_;
+  }
+
+  const Teuchos::RCP<const Map>& map() const { return map_; }
+  int residualEvaluations() const { return residualEvaluations_; }
+  int jacobianEvaluations() const { return jacobianEvaluations_; }
+
+ private:
+  Thyra::ModelEvaluatorBase::OutArgs<double> createOutArgsImpl() const override;
+  void evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& inArgs,
+                     const Thyra::ModelEvaluatorBase::OutArgs<double>& outArgs) const override;
+  // P at x, reusing the last one when x has not changed (NOX asks for W_op and W_prec separately).
+  Teuchos::RCP<const CrsMatrix> matrixAt(const Vector& x) const;
+
+  ResidualModel* model_;
+  Teuchos::RCP<const Map> map_;
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> space_;
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> W_factory_;
+  bool supportsWop_;
+  Teuchos::RCP<PreconditionerCache> prec_;
+
+  mutable Teuchos::RCP<const CrsMatrix> P_;
+  mutable Teuchos::RCP<Vector> xOfP_, diff_;
+  mutable int residualEvaluations_ = 0, jacobianEvaluations_ = 0;
+};
+
+}  // namespace impm

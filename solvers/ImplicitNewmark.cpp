@@ -1,0 +1,412 @@
+#include "solvers/ImplicitNewmark.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+
+#include <algorithm>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/kernels/GridToParticle.hpp"
+#include "core/kernels/InternalForce.hpp"
+#include "core/kernels/ParticleToGrid.hpp"
+#include "core/kernels/Stiffness.hpp"
+
+namespace impm {
+
+namespace {
+// Columns of the implicit grid state.
+namespace st {
+enum : int { Mass = 0, VelX, VelY, AccX, AccY, FextX, FextY, FreeX, FreeY, Count };
+}
+// Columns of the displacement multivector: the step's displacement and the new acceleration.
+namespace dp {
+enum : int { UX = 0, UY, AnewX, AnewY, Count };
+}
+}  // namespace
+
+template <class Shape>
+ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist,
+                                        const LinearElastic& material, const NodalConstraints& constraints,
+                                        const LoadSet& loads, const ImplicitOptions& options)
+    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options) {
+  solver_ = std::make_unique<NewtonSolver>(opt_.solverParams);
+  stateOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), st::Count));
+  stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), st::Count));
+  dispOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), dp::Count));
+  dispGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), dp::Count));
+  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2));
+  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
+  trial_ = decltype(trial_)("trial_stress", ps_.count);
+  double local = 0.0, global = 0.0;
+  auto mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps_.mass);
+  for (int p = 0; p < ps_.count; ++p) local = std::max(local, mh(p));
+  Teuchos::reduceAll(*dist.comm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
+  massCutoff_ = opt_.massTolerance * global;
+}
+
+template <class Shape>
+ImplicitNewmark<Shape>::~ImplicitNewmark() = default;
+
+namespace {
+std::string describe(const Teuchos::ParameterList& p) {
+  const std::string jac = p.get<std::string>("Jacobian");
+  return jac + " Newton, preconditioner " + p.get<std::string>("Preconditioner");
+}
+}  // namespace
+
+template <class Shape>
+std::string ImplicitNewmark<Shape>::name() const {
+  return std::string("implicit ") + Shape::name + " Newmark (" + describe(solver_->parameters()) + ")";
+}
+
+template <class Shape>
+void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
+  dt_ = dt;
+  const StructuredGrid& g = dist_.grid();
+  // Particles to grid at t: mass, momentum, m a; particle forces at t + dt.
+  stateGhosted_->putScalar(0.0);
+  {
+    auto grid = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    particleToGridMassMomentum<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, grid, st::Mass, st::VelX, st::AccX);
+    if (loads_.hasParticleForces())
+      particleToGridForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, loads_.particleIndices(),
+                                        loads_.particleForces(t + dt), grid, st::FextX);
+  }
+  stateOwned_->putScalar(0.0);
+  stateOwned_->doExport(*stateGhosted_, *dist_.importer(), Tpetra::ADD);
+
+  // Consistent initial acceleration: a(0) = M^-1 (F_ext(0) + F_int(0)) (F_int as force on nodes).
+  const bool initialAcceleration = firstStep_ && opt_.consistentInitialAcceleration;
+  if (initialAcceleration) {
+    forceGhosted_->putScalar(0.0);
+    {
+      auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+      accumulateInternalForce<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, 0);
+      if (loads_.hasParticleForces())
+        particleToGridForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, loads_.particleIndices(),
+                                          loads_.particleForces(t), f, 0);
+    }
+    forceOwned_->putScalar(0.0);
+    forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
+    auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    loads_.template applyNodal<Exec>(f, 0, t);
+  }
+  firstStep_ = false;
+
+  {
+    auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    loads_.template applyNodal<Exec>(s, st::FextX, t + dt);
+    auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const double cutoff = massCutoff_;
+    Kokkos::parallel_for(
+        "implicit_grid_state", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
+          const double m = s(n, st::Mass);
+          const bool massive = m > cutoff;
+          for (int d = 0; d < 2; ++d) {
+            s(n, st::VelX + d) = massive ? s(n, st::VelX + d) / m : 0.0;
+            s(n, st::AccX + d) = massive ? (initialAcceleration ? f(n, d) / m : s(n, st::AccX + d) / m) : 0.0;
+            s(n, st::FreeX + d) = massive ? 1.0 : 0.0;
+          }
+        });
+    bc_.template apply<Exec>(s, st::VelX);
+    bc_.template apply<Exec>(s, st::AccX);
+    bc_.template apply<Exec>(s, st::FreeX);
+  }
+  stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
+
+  // Free dofs and the unknown map (gid = 2 node + component).
+  PCurrent_ = false;
+  auto s = stateOwned_->getLocalViewHost(Tpetra::Access::ReadOnly);
+  const auto ownedMap = dist_.ownedNodeMap();
+  std::vector<int> nodes, comps;
+  const std::vector<GO> previousGids = freeGids_;
+  freeGids_.clear();
+  for (size_t n = 0; n < s.extent(0); ++n)
+    for (int d = 0; d < 2; ++d)
+      if (s(n, st::FreeX + d) > 0.5) {
+        nodes.push_back((int)n);
+        comps.push_back(d);
+        freeGids_.push_back(2 * ownedMap->getGlobalElement((LO)n) + d);
+      }
+  freeNode_ = Kokkos::View<int*, DeviceType>("free_node", nodes.size());
+  freeComp_ = Kokkos::View<int*, DeviceType>("free_comp", comps.size());
+  auto hn = Kokkos::create_mirror_view(freeNode_); auto hc = Kokkos::create_mirror_view(freeComp_);
+  for (size_t k = 0; k < nodes.size(); ++k) { hn(k) = nodes[k]; hc(k) = comps[k]; }
+  Kokkos::deep_copy(freeNode_, hn); Kokkos::deep_copy(freeComp_, hc);
+  // Same free dofs on every rank: keep the map object (the solver and preconditioner key on it).
+  const int changedHere = (unknownMap_.is_null() || previousGids != freeGids_) ? 1 : 0;
+  int changed = 0;
+  Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MAX, changedHere, Teuchos::outArg(changed));
+  if (changed) {
+    const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
+    unknownMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(freeGids_), 0, dist_.comm()));
+    P_ = Teuchos::null;
+  }
+}
+
+template <class Shape>
+void ImplicitNewmark<Shape>::scatterUnknowns(const Vector& u) {
+  dispOwned_->putScalar(0.0);
+  {
+    auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    auto uv = u.getLocalViewDevice(Tpetra::Access::ReadOnly);
+    auto node = freeNode_; auto comp = freeComp_;
+    Kokkos::parallel_for(
+        "scatter_unknowns", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
+        KOKKOS_LAMBDA(int k) { d(node(k), dp::UX + comp(k)) = uv(k, 0); });
+  }
+  dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
+}
+
+template <class Shape>
+void ImplicitNewmark<Shape>::trialStress(double scale) {
+  {
+    auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX);
+  }
+  auto L = ps_.gradient; auto s = ps_.stress; auto out = trial_;
+  const double c11 = mat_.c11(), c12 = mat_.c12(), c33 = mat_.c33(), czz = mat_.czz();
+  Kokkos::parallel_for(
+      "trial_stress", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
+        const double exx = scale * L(p, 0, 0), eyy = scale * L(p, 1, 1), gxy = scale * (L(p, 0, 1) + L(p, 1, 0));
+        out(p, 0) = s(p, 0) + c11 * exx + c12 * eyy;
+        out(p, 1) = s(p, 1) + c12 * exx + c11 * eyy;
+        out(p, 2) = s(p, 2) + c33 * gxy;
+        out(p, 3) = s(p, 3) + czz * (exx + eyy);
+      });
+}
+
+template <class Shape>
+void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
+  scatterUnknowns(u);
+  trialStress(1.0);
+  forceGhosted_->putScalar(0.0);
+  {
+    auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, trial_, f, 0);
+  }
+  forceOwned_->putScalar(0.0);
+  forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
+  auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto uv = u.getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto r = R.getLocalViewDevice(Tpetra::Access::OverwriteAll);
+  auto node = freeNode_; auto comp = freeComp_;
+  const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+  Kokkos::parallel_for(
+      "implicit_residual", Kokkos::RangePolicy<Exec>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+        const int n = node(k), d = comp(k);
+        const double m = s(n, st::Mass);
+        // f holds the internal force acting on the node (-int B^T sigma).
+        r(k, 0) = m * (c1 * uv(k, 0) - c2 * s(n, st::VelX + d) - s(n, st::AccX + d)) - f(n, d) - s(n, st::FextX + d);
+      });
+}
+
+template <class Shape>
+Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vector& /*u*/) {
+  // P = 4/dt^2 M + K, K over particle-cell pairs (exact over overlaps for GIMP). Small strain:
+  // P does not depend on u, so it is assembled once per step.
+  if (PCurrent_) return P_;
+  const bool gimp = std::is_same<Shape, UniformGimp>::value;
+  const StructuredGrid& g = dist_.grid();
+  const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, !gimp);
+  PairMatrices Ke("pair_stiffness", pairs.count);
+  pairStiffness<Exec>(g, pairs, ps_, mat_, gimp, Ke);
+
+  auto C = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pairs.cell);
+  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Ke);
+  auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
+  const LocalNodeIndexer& gix = dist_.ghostedIndexer();
+  const auto ghostMap = dist_.ghostedNodeMap();
+  auto so = stateOwned_->getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), freeNode_);
+  const double massFactor = 4.0 / (dt_ * dt_);
+
+  // Visits every non-zero contribution (row gid, column gids and values of one pair row, or a
+  // mass diagonal) with `emit`.
+  auto forEachContribution = [&](auto&& emit) {
+    GO cols[8];
+    double vals[8];
+    for (int k = 0; k < pairs.count; ++k) {
+      GO gid[8];
+      bool freeDof[8];
+      for (int a = 0; a < 4; ++a) {
+        const int ln = gix(C(k, 0) + (a & 1), C(k, 1) + (a >> 1));
+        for (int d = 0; d < 2; ++d) {
+          gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
+          freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;
+        }
+      }
+      for (int r = 0; r < 8; ++r) {
+        if (!freeDof[r]) continue;
+        int n = 0;
+        for (int c = 0; c < 8; ++c)
+          if (freeDof[c]) { cols[n] = gid[c]; vals[n] = K(k, r, c); ++n; }
+        emit(gid[r], cols, vals, n);
+      }
+    }
+    for (size_t k = 0; k < freeGids_.size(); ++k) {
+      const double m = massFactor * so(hn(k), st::Mass);
+      emit(freeGids_[k], &freeGids_[k], &m, 1);
+    }
+  };
+
+  // The pattern: the cells the pairs touch and the free dofs this rank sees.
+  std::vector<GO> key;
+  for (int k = 0; k < pairs.count; ++k) key.push_back(g.cellId(C(k, 0), C(k, 1)));
+  std::sort(key.begin(), key.end());
+  key.erase(std::unique(key.begin(), key.end()), key.end());
+  key.push_back(-1);
+  for (size_t n = 0; n < sg.extent(0); ++n)
+    for (int d = 0; d < 2; ++d)
+      if (sg(n, st::FreeX + d) > 0.5) key.push_back(2 * ghostMap->getGlobalElement((LO)n) + d);
+  const int sameHere = (!P_.is_null() && key == patternKey_) ? 1 : 0;
+  int same = 0;
+  Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
+
+  if (same) {
+    // Refill the values on the existing graphs.
+    overlapP_->resumeFill();
+    overlapP_->setAllToScalar(0.0);
+    forEachContribution([&](GO row, const GO* cols, const double* vals, int n) {
+      overlapP_->sumIntoGlobalValues(row, Teuchos::ArrayView<const GO>(cols, n), Teuchos::ArrayView<const double>(vals, n));
+    });
+    overlapP_->fillComplete(unknownMap_, unknownMap_);
+    P_->resumeFill();
+    P_->setAllToScalar(0.0);
+    P_->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
+    P_->fillComplete(unknownMap_, unknownMap_);
+    PCurrent_ = true;
+    return P_;
+  }
+
+  // New pattern: sum on the host per row, build the overlap matrix and the owned one.
+  std::unordered_map<GO, std::vector<std::pair<GO, double>>> rows;
+  forEachContribution([&](GO r, const GO* cols, const double* vals, int n) {
+    auto& row = rows[r];
+    for (int j = 0; j < n; ++j) {
+      bool found = false;
+      for (auto& e : row)
+        if (e.first == cols[j]) { e.second += vals[j]; found = true; break; }
+      if (!found) row.emplace_back(cols[j], vals[j]);
+    }
+  });
+  std::vector<GO> rowGids;
+  rowGids.reserve(rows.size());
+  size_t maxPerRow = 1;
+  for (const auto& [r, entries] : rows) { rowGids.push_back(r); maxPerRow = std::max(maxPerRow, entries.size()); }
+  std::sort(rowGids.begin(), rowGids.end());
+  const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
+  auto overlapMap = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(rowGids), 0, dist_.comm()));
+  overlapP_ = Teuchos::rcp(new CrsMatrix(overlapMap, maxPerRow));
+  std::vector<GO> cols;
+  std::vector<double> vals;
+  for (GO r : rowGids) {
+    cols.clear(); vals.clear();
+    for (const auto& [c, v] : rows[r]) { cols.push_back(c); vals.push_back(v); }
+    overlapP_->insertGlobalValues(r, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
+  }
+  overlapP_->fillComplete(unknownMap_, unknownMap_);
+  auto firstP = Teuchos::rcp(new CrsMatrix(unknownMap_, 2 * maxPerRow));
+  pExporter_ = Teuchos::rcp(new Export(overlapMap, unknownMap_));
+  firstP->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
+  firstP->fillComplete(unknownMap_, unknownMap_);
+  // Keep P on the static graph found now: later refills export into it with sums only.
+  P_ = Teuchos::rcp(new CrsMatrix(firstP->getCrsGraph()));
+  P_->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
+  P_->fillComplete(unknownMap_, unknownMap_);
+  patternKey_ = std::move(key);
+  PCurrent_ = true;
+  return P_;
+}
+
+template <class Shape>
+void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
+  scatterUnknowns(u);
+  // Grid acceleration at t + dt on the free dofs (zero elsewhere).
+  {
+    auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+    Kokkos::parallel_for(
+        "implicit_grid_acceleration", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
+          for (int c = 0; c < 2; ++c)
+            d(n, dp::AnewX + c) = s(n, st::FreeX + c) > 0.5
+                                      ? c1 * d(n, dp::UX + c) - c2 * s(n, st::VelX + c) - s(n, st::AccX + c)
+                                      : 0.0;
+        });
+  }
+  dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
+  // Stress from the converged displacement (weights at x_p(t)), then the particle update.
+  {
+    auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX);
+    updateStress<Exec>(ps_, mat_, 1.0);
+    const StructuredGrid g = dist_.grid();
+    const LocalNodeIndexer ix = dist_.ghostedIndexer();
+    auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a;
+    const double dt = dt_;
+    Kokkos::parallel_for(
+        "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
+          const ParticleStencil<Shape> stn(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+          double ux = 0, uy = 0, ax = 0, ay = 0;
+          for (int i = 0; i < stn.ni; ++i)
+            for (int j = 0; j < stn.nj; ++j) {
+              const int n = ix(stn.i0 + i, stn.j0 + j);
+              const double w = stn.weight(i, j);
+              ux += w * d(n, dp::UX); uy += w * d(n, dp::UY);
+              ax += w * d(n, dp::AnewX); ay += w * d(n, dp::AnewY);
+            }
+          x(p, 0) += ux; x(p, 1) += uy;
+          v(p, 0) += 0.5 * dt * (a(p, 0) + ax);
+          v(p, 1) += 0.5 * dt * (a(p, 1) + ay);
+          a(p, 0) = ax; a(p, 1) = ay;
+        });
+  }
+}
+
+template <class Shape>
+bool ImplicitNewmark<Shape>::trySteps(double t, double dt, int depth) {
+  setUpStep(t, dt);
+  Vector u(unknownMap_, true);
+  const NewtonResult result = solver_->solve(*this, u);
+  if (result.converged) {
+    finishStep(u);
+    newtonPerStep_.push_back(result.newtonIterations);
+    krylovPerNewton_.insert(krylovPerNewton_.end(), result.krylovIterations.begin(), result.krylovIterations.end());
+    return true;
+  }
+  if (depth >= opt_.maxStepHalvings) return false;
+  ++halvings_;
+  return trySteps(t, 0.5 * dt, depth + 1) && trySteps(t + 0.5 * dt, 0.5 * dt, depth + 1);
+}
+
+template <class Shape>
+void ImplicitNewmark<Shape>::step(double t, double dt) {
+  if (!trySteps(t, dt, 0)) {
+    std::ostringstream msg;
+    msg << "Newton did not converge in the step from t = " << t << " s (dt = " << dt << " s), even with dt halved "
+        << opt_.maxStepHalvings << " times";
+    throw NewtonNotConverged(msg.str());
+  }
+}
+
+template <class Shape>
+void ImplicitNewmark<Shape>::addStatistics(Teuchos::ParameterList& summary) const {
+  Teuchos::ParameterList& s = summary.sublist("Solver");
+  const auto& n = newtonPerStep_;
+  const auto& k = krylovPerNewton_;
+  s.set("Newton Iterations Mean", n.empty() ? 0.0 : std::accumulate(n.begin(), n.end(), 0.0) / n.size());
+  s.set("Newton Iterations Max", n.empty() ? 0 : *std::max_element(n.begin(), n.end()));
+  s.set("Krylov Iterations Per Newton Mean", k.empty() ? 0.0 : std::accumulate(k.begin(), k.end(), 0.0) / k.size());
+  s.set("Krylov Iterations Per Newton Max", k.empty() ? 0 : *std::max_element(k.begin(), k.end()));
+  s.set("Step Halvings", halvings_);
+  s.set("Configuration", describe(solver_->parameters()));
+}
+
+template class ImplicitNewmark<LinearMpm>;
+template class ImplicitNewmark<UniformGimp>;
+
+}  // namespace impm

@@ -1,0 +1,102 @@
+// Implicit MPM/GIMP after Guilkey & Weiss (2003), extended to GIMP (the seed, slides 2-6):
+// Newmark average acceleration on the grid, solved for the grid displacement increment u of
+// the step by a Newton iteration (NewtonSolver: NOX Jacobian-free Newton-Krylov, or Newton
+// with the assembled stiffness).
+//
+//   R(u) = M (4/dt^2 u - 4/dt v - a) + F_int(u) - F_ext(t + dt) = 0   on the free dofs,
+//
+// where F_int(u) comes from the trial particle stresses sigma_p + D sym(grad u) through the
+// same internal-force kernel the explicit stepper uses. Constrained components and nodes
+// without mass (below a fraction of the heaviest particle's mass) are not unknowns.
+#pragma once
+
+#include <Teuchos_ParameterList.hpp>
+#include <memory>
+#include <vector>
+
+#include "core/GridDistribution.hpp"
+#include "core/ParticleCellPairs.hpp"
+#include "physics/Constraints.hpp"
+#include "physics/LinearElastic.hpp"
+#include "physics/Loads.hpp"
+#include "solvers/Integrator.hpp"
+#include "solvers/NewtonSolver.hpp"
+
+namespace impm {
+
+struct ImplicitOptions {
+  double massTolerance = 1e-12;  // nodes lighter than this fraction of the heaviest particle are void
+  int maxStepHalvings = 4;       // a step whose Newton iteration fails is retried with dt/2, dt/4, ...
+  bool consistentInitialAcceleration = true;  // a(0) = M^-1 (F_ext(0) - F_int(0)) instead of zero
+  Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
+};
+
+struct NewtonNotConverged : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+template <class Shape>
+class ImplicitNewmark : public Integrator, public ResidualModel {
+ public:
+  ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist, const LinearElastic& material,
+                  const NodalConstraints& constraints, const LoadSet& loads, const ImplicitOptions& options);
+  ~ImplicitNewmark() override;
+
+  // One step of dt, as one Newmark step or, if Newton fails, as 2^k substeps (k <= maxStepHalvings).
+  // Throws NewtonNotConverged, leaving the particles at their last converged state.
+  void step(double t, double dt) override;
+  std::string name() const override;
+  void addStatistics(Teuchos::ParameterList& summary) const override;
+
+  // The set-up step() does before solving (grid state at t, loads at t + dt, free dofs); public
+  // so that tests can evaluate the residual and the matrix of one step.
+  void prepareStep(double t, double dt) { setUpStep(t, dt); }
+
+  // ResidualModel (for the current step's set-up).
+  Teuchos::RCP<const Map> unknownMap() const override { return unknownMap_; }
+  void residual(const Vector& u, Vector& R) override;
+  Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) override;
+
+  // Statistics of the run so far.
+  const std::vector<int>& newtonIterationsPerStep() const { return newtonPerStep_; }
+  const std::vector<int>& krylovIterationsPerNewton() const { return krylovPerNewton_; }
+
+ private:
+  using Exec = ExecutionSpace;
+  void setUpStep(double t, double dt);   // grid state at t, external force at t + dt, free dofs
+  bool trySteps(double t, double dt, int depth);
+  void finishStep(const Vector& u);      // grid and particle update with the converged u
+  void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
+  void trialStress(double scale);        // trial stress from the ghosted grid displacement
+
+  ParticleSet& ps_;
+  const GridDistribution& dist_;
+  LinearElastic mat_;
+  const NodalConstraints& bc_;
+  const LoadSet& loads_;
+  ImplicitOptions opt_;
+  std::unique_ptr<NewtonSolver> solver_;
+  double dt_ = 0, massCutoff_ = 0;
+  bool firstStep_ = true;
+
+  // Owned and ghosted node multivectors: grid state (mass, v, a, F_ext), displacement, force.
+  Teuchos::RCP<MultiVector> stateOwned_, stateGhosted_, dispOwned_, dispGhosted_, forceOwned_, forceGhosted_;
+  Kokkos::View<double* [4], Kokkos::LayoutRight, DeviceType> trial_;  // trial stresses
+  // Free dofs of this step: owned local node and component, and the unknown map.
+  Kokkos::View<int*, DeviceType> freeNode_, freeComp_;
+  Teuchos::RCP<const Map> unknownMap_;
+  std::vector<GO> freeGids_;
+
+  // The assembled matrix of the current step; its graph (and the overlap matrix and Export
+  // it is summed through) is reused while the pattern of particle-cell pairs and free dofs
+  // stays the same, so that only values are refilled and Ifpack2 keeps its symbolic set-up.
+  Teuchos::RCP<CrsMatrix> P_, overlapP_;
+  Teuchos::RCP<const Export> pExporter_;
+  std::vector<GO> patternKey_;
+  bool PCurrent_ = false;
+
+  std::vector<int> newtonPerStep_, krylovPerNewton_;
+  int halvings_ = 0;
+};
+
+}  // namespace impm

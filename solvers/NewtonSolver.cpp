@@ -1,0 +1,435 @@
+#include "solvers/NewtonSolver.hpp"
+
+#include "solvers/ConvergenceTests.hpp"
+#include "solvers/ImplicitModelEvaluator.hpp"
+
+#include <NOX.H>
+#include <NOX_MatrixFree_ModelEvaluatorDecorator.hpp>
+#include <NOX_Observer.hpp>
+#include <NOX_SolverStats.hpp>
+#include <NOX_Thyra.H>
+#include <NOX_Thyra_MatrixFreeJacobianOperator.hpp>
+#include <Stratimikos_DefaultLinearSolverBuilder.hpp>
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <Thyra_TpetraThyraWrappers.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace impm {
+
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
+
+namespace {
+
+const std::string kList = "Implicit Solver";
+const std::vector<std::string> kPreconditioners = {"RILUK", "ILUT", "RELAXATION", "CHEBYSHEV", "None"};
+// Relative tolerance of preconditioned GMRES when it stands in for a direct solve.
+constexpr double kAssembledBelosTolerance = 1e-10;
+
+std::string where(const std::string& key) { return "'" + kList + "/" + key + "'"; }
+
+std::string valueString(const Teuchos::ParameterEntry& e) {
+  std::ostringstream os;
+  e.leftshift(os, false);
+  return os.str();
+}
+
+std::string sci(double v) {
+  std::ostringstream os;
+  os << std::scientific << std::setprecision(3) << v;
+  return os.str();
+}
+
+// Accept ints and doubles (YAML decks write "1" for 1.0), stored as double.
+RCP<Teuchos::AnyNumberParameterEntryValidator> numberValidator() {
+  Teuchos::AnyNumberParameterEntryValidator::AcceptedTypes accept(false);
+  accept.allowInt(true).allowDouble(true).allowString(false);
+  return rcp(new Teuchos::AnyNumberParameterEntryValidator(Teuchos::AnyNumberParameterEntryValidator::PREFER_DOUBLE,
+                                                           accept));
+}
+
+bool stratimikosHasAmesos2() {
+  Stratimikos::DefaultLinearSolverBuilder builder;
+  RCP<const ParameterList> valid = builder.getValidParameters();
+  return valid->isSublist("Linear Solver Types") && valid->sublist("Linear Solver Types").isSublist("Amesos2");
+}
+
+template <class T>
+void setDefault(ParameterList& pl, const std::string& key, const T& value) {
+  if (!pl.isParameter(key)) pl.set(key, value);
+}
+
+void setDefault(ParameterList& pl, const std::string& key, const char* value) {
+  setDefault(pl, key, std::string(value));
+}
+
+// Per-key check of the user's list with messages naming 'Implicit Solver/<key>'; then Teuchos fills
+// the defaults and converts numbers. Pass-through sublists are left to their packages.
+void validateList(ParameterList& pl, const ParameterList& valid) {
+  for (auto it = pl.begin(); it != pl.end(); ++it) {
+    const std::string& key = pl.name(it);
+    const Teuchos::ParameterEntry& entry = pl.entry(it);
+    const Teuchos::ParameterEntry* ve = valid.getEntryPtr(key);
+    if (ve == nullptr) {
+      std::string keys;
+      for (auto v = valid.begin(); v != valid.end(); ++v) keys += (keys.empty() ? "'" : ", '") + valid.name(v) + "'";
+      throw std::invalid_argument("unknown key " + where(key) + " (valid here: " + keys + ")");
+    }
+    if (ve->isList() != entry.isList())
+      throw std::invalid_argument(where(key) + (ve->isList() ? " must be a sublist, not a value" : " must be a value, not a sublist"));
+    if (ve->isList()) continue;
+    const RCP<const Teuchos::ParameterEntryValidator> validator = ve->validator();
+    if (validator.is_null()) continue;
+    try {
+      validator->validate(entry, key, kList);
+    } catch (const std::exception&) {
+      std::string msg = "invalid value '" + valueString(entry) + "' for " + where(key);
+      RCP<const Teuchos::Array<std::string>> strings = validator->validStringValues();
+      if (!strings.is_null()) {
+        msg += " (valid: ";
+        for (Teuchos::Array<std::string>::size_type k = 0; k < strings->size(); ++k) msg += (k ? ", " : "") + (*strings)[k];
+        msg += ")";
+      } else {
+        msg += " (expected a " + std::string(ve->getAny().typeName()) + ")";
+      }
+      throw std::invalid_argument(msg);
+    }
+  }
+  try {
+    pl.validateParametersAndSetDefaults(valid, 0);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("invalid '" + kList + "' list: " + std::string(e.what()));
+  }
+}
+
+double positive(const ParameterList& pl, const std::string& key) {
+  const double v = pl.get<double>(key);
+  if (!(v > 0) || !std::isfinite(v)) throw std::invalid_argument(where(key) + " must be positive (got " + sci(v) + ")");
+  return v;
+}
+
+int positiveInt(const ParameterList& pl, const std::string& key) {
+  const int v = pl.get<int>(key);
+  if (v < 1) throw std::invalid_argument(where(key) + " must be positive (got " + std::to_string(v) + ")");
+  return v;
+}
+
+// Krylov iterations of each Newton step, from NOX's solver statistics.
+class KrylovObserver : public NOX::Observer {
+ public:
+  std::vector<int> iterations;
+  void runPostIterate(const NOX::Solver::Generic& solver) override {
+    // Also called after a converged initial guess or a failed direction, with no new linear solve.
+    if (solver.getNumIterations() > static_cast<int>(iterations.size()))
+      iterations.push_back(solver.getSolverStatistics()->linearSolve.lastLinearSolve_NumIterations);
+  }
+};
+
+double seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+RCP<const ParameterList> NewtonSolver::validParameters() {
+  static RCP<const ParameterList> valid;
+  if (!valid.is_null()) return valid;
+  auto pl = rcp(new ParameterList(kList));
+  const bool amesos2 = stratimikosHasAmesos2();
+
+  Teuchos::setStringToIntegralParameter<int>(
+      "Jacobian", "Jacobian-Free",
+      "Jacobian-Free: Newton-Krylov with J v ~ (R(u + d v) - R(u)) / d (NOX matrix-free operator), "
+      "Belos GMRES right-preconditioned by Ifpack2 on the assembled P. Assembled: the Jacobian is P itself",
+      Teuchos::tuple<std::string>("Jacobian-Free", "Assembled"), Teuchos::tuple<int>(0, 1), pl.get());
+  if (amesos2) {
+    Teuchos::setStringToIntegralParameter<int>(
+        "Assembled Linear Solver", "Amesos2",
+        "Jacobian = Assembled only. Amesos2: direct sparse LU (KLU2; Stratimikos/Linear Solver Types/Amesos2). "
+        "Belos: GMRES preconditioned by 'Preconditioner', to a relative tolerance of min(Linear Tolerance, 1e-10)",
+        Teuchos::tuple<std::string>("Amesos2", "Belos"), Teuchos::tuple<int>(0, 1), pl.get());
+  } else {
+    Teuchos::setStringToIntegralParameter<int>(
+        "Assembled Linear Solver", "Belos",
+        "Jacobian = Assembled only. Belos: GMRES preconditioned by 'Preconditioner', to a relative tolerance "
+        "of min(Linear Tolerance, 1e-10) (this Trilinos has no Amesos2 in Stratimikos)",
+        Teuchos::tuple<std::string>("Belos"), Teuchos::tuple<int>(1), pl.get());
+  }
+  pl->set("Preconditioner", "RILUK",
+          "Ifpack2 preconditioner built from the assembled P (initialize() once per matrix graph, compute() "
+          "each Newton step): RILUK (incomplete LU, level of fill 'fact: iluk level-of-fill'), ILUT, "
+          "RELAXATION (Jacobi unless 'relaxation: type' says otherwise), CHEBYSHEV, or None. Across MPI ranks "
+          "the ILU variants act as block Jacobi",
+          rcp(new Teuchos::StringValidator(Teuchos::tuple<std::string>("RILUK", "ILUT", "RELAXATION", "CHEBYSHEV", "None"))));
+  pl->set("Displacement Tolerance", 1e-10,
+          "converged when ||du_k|| <= tol * ||u_k|| (du_k: update of Newton iteration k; 2-norms) AND the "
+          "energy criterion holds",
+          numberValidator());
+  pl->set("Energy Tolerance", 1e-20,
+          "converged when |du_k . R(u_{k-1})| <= tol * |du_1 . R(u_0)| (relative work of the residual) AND the "
+          "displacement criterion holds. The energy scales like the square of the residual, so 1e-20 matches a "
+          "residual reduction of about 1e-10",
+          numberValidator());
+  pl->set("Residual Tolerance", 1e-10,
+          "also converged when the unscaled 2-norm of R(u) is below this absolute value (force units); "
+          "0 disables this test",
+          numberValidator());
+  pl->set("Maximum Newton Iterations", 20, "the step fails when not converged after this many Newton iterations",
+          rcp(new Teuchos::EnhancedNumberValidator<int>()));
+  pl->set("Linear Tolerance", 1e-4,
+          "relative residual tolerance of each GMRES solve (Jacobian-Free; constant forcing term)", numberValidator());
+  pl->set("Maximum Krylov Iterations", 200,
+          "GMRES iteration limit per Newton step (also the restart length, capped at 100)",
+          rcp(new Teuchos::EnhancedNumberValidator<int>()));
+  pl->sublist("Ifpack2", false, "passed unchanged to the Ifpack2 preconditioner's setParameters (Ifpack2 checks it)")
+      .disableRecursiveValidation();
+  pl->sublist("NOX", false,
+              "passed to NOX (defaults: Line Search Based, Full Step, Newton with a constant forcing term, errors "
+              "printed only, Complete status test checks); these keys win over the derived ones")
+      .disableRecursiveValidation();
+  pl->sublist("Stratimikos", false,
+              "passed to Stratimikos::DefaultLinearSolverBuilder (defaults: Belos Pseudo Block GMRES, or Amesos2 "
+              "KLU2 for an assembled direct solve; Preconditioner Type None, since the Ifpack2 preconditioner "
+              "arrives through the model evaluator's W_prec)")
+      .disableRecursiveValidation();
+  pl->sublist("Jacobian-Free Operator", false,
+              "passed to NOX::Thyra::MatrixFreeJacobianOperator (defaults: Difference Type Forward, Perturbation "
+              "Algorithm 'Knoll Keyes JCP 2004', lambda 1e-6). Central differences are broken in Trilinos 13.2")
+      .disableRecursiveValidation();
+  valid = pl;
+  return valid;
+}
+
+NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
+    : params_(params.is_null() ? rcp(new ParameterList(kList)) : params) {
+  ParameterList& pl = *params_;
+  validateList(pl, *validParameters());
+
+  jacobian_ = Teuchos::getIntegralValue<int>(pl, "Jacobian") == 0 ? JacobianMode::JacobianFree : JacobianMode::Assembled;
+  assembledSolver_ =
+      Teuchos::getIntegralValue<int>(pl, "Assembled Linear Solver") == 0 ? AssembledSolver::Amesos2 : AssembledSolver::Belos;
+  precType_ = pl.get<std::string>("Preconditioner");
+  displacementTol_ = positive(pl, "Displacement Tolerance");
+  energyTol_ = positive(pl, "Energy Tolerance");
+  residualTol_ = pl.get<double>("Residual Tolerance");
+  if (!(residualTol_ >= 0) || !std::isfinite(residualTol_))
+    throw std::invalid_argument(where("Residual Tolerance") + " must be non-negative (got " + sci(residualTol_) + ")");
+  linearTol_ = positive(pl, "Linear Tolerance");
+  if (linearTol_ >= 1) throw std::invalid_argument(where("Linear Tolerance") + " must be below 1 (got " + sci(linearTol_) + ")");
+  maxNewton_ = positiveInt(pl, "Maximum Newton Iterations");
+  maxKrylov_ = positiveInt(pl, "Maximum Krylov Iterations");
+  const bool direct = jacobian_ == JacobianMode::Assembled && assembledSolver_ == AssembledSolver::Amesos2;
+
+  // Matrix-free operator settings (copied; NOX fills its defaults into the copy at each solve).
+  jfnkParams_ = rcp(new ParameterList(pl.sublist("Jacobian-Free Operator")));
+  setDefault(*jfnkParams_, "Difference Type", "Forward");
+  setDefault(*jfnkParams_, "Perturbation Algorithm", "Knoll Keyes JCP 2004");
+  setDefault(*jfnkParams_, "lambda", 1e-6);
+  if (jacobian_ == JacobianMode::JacobianFree) {
+    try {
+      ParameterList print;
+      NOX::Thyra::MatrixFreeJacobianOperator<double> probe(print);
+      probe.setParameterList(rcp(new ParameterList(*jfnkParams_)));
+    } catch (const std::exception& e) {
+      throw std::invalid_argument("invalid " + where("Jacobian-Free Operator") + ": " + e.what());
+    }
+    if (jfnkParams_->get<std::string>("Difference Type") != "Forward")
+      throw std::invalid_argument(where("Jacobian-Free Operator/Difference Type") +
+                                  " must be Forward (Central differences are broken in Trilinos 13.2)");
+  }
+
+  // Stratimikos: the linear solver. Our derived settings are defaults; the deck's keys win.
+  auto strat = rcp(new ParameterList(pl.sublist("Stratimikos")));
+  const std::string lsType = direct ? "Amesos2" : "Belos";
+  if (strat->isParameter("Linear Solver Type") && strat->get<std::string>("Linear Solver Type") != lsType) {
+    throw std::invalid_argument(
+        where("Stratimikos/Linear Solver Type") + " = " + strat->get<std::string>("Linear Solver Type") +
+        (jacobian_ == JacobianMode::JacobianFree ? " cannot solve with a Jacobian-free operator: use Belos"
+                                                 : " contradicts " + where("Assembled Linear Solver") + " = " + lsType));
+  }
+  strat->set("Linear Solver Type", lsType);
+  setDefault(*strat, "Preconditioner Type", "None");
+  if (direct) {
+    ParameterList& amesos2 = strat->sublist("Linear Solver Types").sublist("Amesos2");
+    setDefault(amesos2, "Solver Type", "KLU2");
+    setDefault(amesos2.sublist("VerboseObject"), "Verbosity Level", "none");
+  } else {
+    ParameterList& belos = strat->sublist("Linear Solver Types").sublist("Belos");
+    setDefault(belos, "Solver Type", "Pseudo Block GMRES");
+    const std::string solverType = belos.get<std::string>("Solver Type");
+    ParameterList& solver = belos.sublist("Solver Types").sublist(solverType);
+    setDefault(solver, "Maximum Iterations", maxKrylov_);
+    if (solverType.find("GMRES") != std::string::npos) setDefault(solver, "Num Blocks", std::min(maxKrylov_, 100));
+    setDefault(belos.sublist("VerboseObject"), "Verbosity Level", "none");
+  }
+  try {
+    Stratimikos::DefaultLinearSolverBuilder builder;
+    builder.setParameterList(strat);
+    lowsFactory_ = builder.createLinearSolveStrategy("");
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("invalid " + where("Stratimikos") + ": " + e.what());
+  }
+  if (direct) {
+    // Used when the unknowns span several ranks (see gatheredDirect_ in the header).
+    auto belos = rcp(new ParameterList("Stratimikos"));
+    belos->set("Linear Solver Type", "Belos");
+    belos->set("Preconditioner Type", "None");
+    ParameterList& b = belos->sublist("Linear Solver Types").sublist("Belos");
+    b.set("Solver Type", "Pseudo Block GMRES");
+    b.sublist("Solver Types").sublist("Pseudo Block GMRES").set("Maximum Iterations", 20);
+    b.sublist("Solver Types").sublist("Pseudo Block GMRES").set("Num Blocks", 20);
+    b.sublist("VerboseObject").set("Verbosity Level", "none");
+    Stratimikos::DefaultLinearSolverBuilder builder;
+    builder.setParameterList(belos);
+    gatheredLowsFactory_ = builder.createLinearSolveStrategy("");
+    gatheredDirect_ = rcp(new GatheredDirectInverse());
+  }
+
+  // NOX: Newton with full steps; our derived settings are defaults, the deck's keys win.
+  noxParams_ = rcp(new ParameterList(pl.sublist("NOX")));
+  ParameterList& nox = *noxParams_;
+  setDefault(nox, "Nonlinear Solver", "Line Search Based");
+  setDefault(nox.sublist("Line Search"), "Method", "Full Step");
+  setDefault(nox.sublist("Direction"), "Method", "Newton");
+  ParameterList& newton = nox.sublist("Direction").sublist("Newton");
+  setDefault(newton, "Forcing Term Method", "Constant");
+  const double linTol = jacobian_ == JacobianMode::JacobianFree ? linearTol_ : std::min(linearTol_, kAssembledBelosTolerance);
+  setDefault(newton.sublist("Linear Solver"), "Tolerance", linTol);
+  setDefault(nox.sublist("Printing"), "Output Information", static_cast<int>(NOX::Utils::Error));
+  setDefault(nox.sublist("Solver Options"), "Status Test Check Type", "Complete");
+
+  // Ifpack2: checks the type and the "Ifpack2" list now (not collective).
+  if (usesPreconditioner()) prec_ = rcp(new IfpackPreconditionerCache(precType_, pl.sublist("Ifpack2")));
+}
+
+NewtonSolver::~NewtonSolver() = default;
+
+bool NewtonSolver::usesPreconditioner() const {
+  if (precType_ == "None") return false;
+  return jacobian_ == JacobianMode::JacobianFree || assembledSolver_ == AssembledSolver::Belos;
+}
+
+NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  NewtonResult result;
+
+  const RCP<const Map> map = model.unknownMap();
+  TEUCHOS_TEST_FOR_EXCEPTION(map.is_null(), std::invalid_argument, "impm::NewtonSolver::solve: null unknownMap()");
+  TEUCHOS_TEST_FOR_EXCEPTION(!u.getMap()->isSameAs(*map), std::invalid_argument,
+                             "impm::NewtonSolver::solve: u is not on the model's unknownMap()");
+  // A direct solve over several ranks goes through the gathered KLU2 inverse (see the header).
+  const bool gathered = !gatheredDirect_.is_null() && map->getComm()->getSize() > 1;
+  const RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lows = gathered ? gatheredLowsFactory_ : lowsFactory_;
+  const RCP<PreconditionerCache> prec = gathered ? gatheredDirect_ : prec_;
+  const int initsBefore = prec.is_null() ? 0 : prec->initializations();
+
+  // Model evaluator and NOX group, rebuilt per solve (the map may have changed).
+  auto me = rcp(new ImplicitModelEvaluator(model, map, lows, jacobian_ == JacobianMode::Assembled, prec));
+  RCP<Thyra::VectorBase<double>> x0 =
+      Thyra::createVector<Scalar, LO, GO, Node>(rcp(new Vector(u, Teuchos::Copy)), me->get_x_space());
+  const NOX::Thyra::Vector noxX0(x0);
+  RCP<NOX::Thyra::Group> group;
+  RCP<NOX::Thyra::MatrixFreeJacobianOperator<double>> jfnkOp;
+  if (jacobian_ == JacobianMode::JacobianFree) {
+    ParameterList print;
+    print.set("Output Information", static_cast<int>(NOX::Utils::Error));
+    jfnkOp = rcp(new NOX::Thyra::MatrixFreeJacobianOperator<double>(print));
+    jfnkOp->setParameterList(rcp(new ParameterList(*jfnkParams_)));  // before setBaseEvaluationToNOXGroup
+    RCP<Thyra::ModelEvaluator<double>> decorated = rcp(new NOX::MatrixFreeModelEvaluatorDecorator<double>(me));
+    RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : decorated->create_W_prec();
+    group = rcp(new NOX::Thyra::Group(noxX0, decorated, jfnkOp, lows, precOp, Teuchos::null, Teuchos::null));
+  } else {
+    RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : me->create_W_prec();
+    group = rcp(new NOX::Thyra::Group(noxX0, me, me->create_W_op(), lows, precOp, Teuchos::null, Teuchos::null));
+  }
+  const auto beforeF = clock::now();
+  group->computeF();  // the matrix-free operator needs F at the base point
+  const auto afterF = clock::now();
+  if (!jfnkOp.is_null()) jfnkOp->setBaseEvaluationToNOXGroup(group.create_weak());
+
+  // Status tests: finite residual, then (NormF OR (displacement AND energy)), then MaxIters.
+  auto finite = rcp(new NOX::StatusTest::FiniteValue);
+  auto normF = rcp(new NOX::StatusTest::NormF(residualTol_, NOX::StatusTest::NormF::Unscaled));
+  auto displacement = rcp(new DisplacementNormTest(displacementTol_));
+  auto energy = rcp(new EnergyNormTest(energyTol_));
+  auto both = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::AND));
+  both->addStatusTest(displacement);
+  both->addStatusTest(energy);
+  auto maxIters = rcp(new NOX::StatusTest::MaxIters(maxNewton_));
+  auto tests = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR));
+  tests->addStatusTest(finite);
+  tests->addStatusTest(normF);
+  tests->addStatusTest(both);
+  tests->addStatusTest(maxIters);
+
+  auto noxParams = rcp(new ParameterList(*noxParams_));
+  auto observer = rcp(new KrylovObserver);
+  noxParams->sublist("Solver Options").set<RCP<NOX::Observer>>("Observer", observer);
+  RCP<NOX::Solver::Generic> solver;
+  try {
+    solver = NOX::Solver::buildSolver(group, tests, noxParams);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("invalid " + where("NOX") + ": " + e.what());
+  } catch (const char* e) {  // NOX throws "NOX Error" strings
+    throw std::invalid_argument("invalid " + where("NOX") + ": " + e);
+  }
+  result.setupSeconds = seconds(start, beforeF) + seconds(afterF, clock::now());
+
+  NOX::StatusTest::StatusType status;
+  try {
+    status = solver->solve();
+  } catch (const char* e) {
+    throw std::runtime_error(std::string("impm::NewtonSolver: NOX failed: ") + e);
+  }
+
+  // Copy the last iterate back, and report.
+  const NOX::Abstract::Group& soln = solver->getSolutionGroup();
+  const auto& xs = dynamic_cast<const NOX::Thyra::Vector&>(soln.getX());
+  Tpetra::deep_copy(u, *Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getConstTpetraVector(
+                           xs.getThyraRCPVector()));
+
+  result.converged = status == NOX::StatusTest::Converged;
+  result.newtonIterations = solver->getNumIterations();
+  result.krylovIterations = observer->iterations;
+  result.finalResidualNorm = soln.isF() ? soln.getNormF() : -1.0;
+  result.displacementNorm = displacement->ratio();
+  result.energyNorm = energy->ratio();
+  result.residualEvaluations = me->residualEvaluations();
+  result.jacobianEvaluations = me->jacobianEvaluations();
+  result.preconditionerInitializations = prec.is_null() ? 0 : prec->initializations() - initsBefore;
+
+  std::ostringstream why;
+  const std::string its = " after " + std::to_string(result.newtonIterations) + " Newton iteration" +
+                          (result.newtonIterations == 1 ? "" : "s");
+  const std::string values = "||R|| = " + sci(result.finalResidualNorm) + ", ||du||/||u|| = " +
+                             sci(result.displacementNorm) + ", energy ratio = " + sci(result.energyNorm);
+  if (result.converged) {
+    if (normF->getStatus() == NOX::StatusTest::Converged)
+      why << "converged" << its << ": ||R|| = " << sci(result.finalResidualNorm) << " < Residual Tolerance "
+          << sci(residualTol_);
+    else
+      why << "converged" << its << ": ||du||/||u|| = " << sci(result.displacementNorm) << " <= "
+          << sci(displacementTol_) << " and energy ratio = " << sci(result.energyNorm) << " <= " << sci(energyTol_);
+  } else if (finite->getStatus() == NOX::StatusTest::Failed) {
+    why << "failed" << its << ": the residual is not finite (NaN or Inf)";
+  } else if (maxIters->getStatus() == NOX::StatusTest::Failed) {
+    why << "not converged" << its << " (Maximum Newton Iterations = " << maxNewton_ << "): " << values;
+  } else {
+    why << "NOX stopped" << its << " (status " << status << "; a Newton direction or line search failed): " << values;
+  }
+  result.reason = why.str();
+  result.solveSeconds = seconds(start, clock::now());
+  return result;
+}
+
+}  // namespace impm

@@ -1,0 +1,113 @@
+// A reusable Newton solver for one implicit (Newmark) time step: NOX on Thyra over Tpetra.
+//
+// The implicit integrator supplies R(u) and an assembled matrix P ~ dR/du through ResidualModel;
+// NewtonSolver::solve() drives R(u) = 0 with either
+//   - Jacobian-free Newton-Krylov (default): J v ~ (R(u + d v) - R(u)) / d inside Belos GMRES,
+//     right-preconditioned by an Ifpack2 preconditioner built from P, or
+//   - assembled Newton: the Jacobian is P itself, solved by Amesos2 (KLU2) or by
+//     Ifpack2-preconditioned Belos GMRES to a tight tolerance.
+// Convergence: (displacement norm AND energy norm) OR absolute residual norm, at most
+// "Maximum Newton Iterations" (see validParameters() for every key).
+//
+// Every call here is collective: call the constructor and solve() on all ranks of the map's
+// communicator. The unknown map may change from one solve() to the next.
+#pragma once
+
+#include "core/Types.hpp"
+
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_RCP.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+
+#include <string>
+#include <vector>
+
+namespace Thyra {
+template <class Scalar>
+class LinearOpWithSolveFactoryBase;
+}
+
+namespace impm {
+
+using CrsMatrix = Tpetra::CrsMatrix<Scalar, LO, GO, Node>;
+
+// What the implicit integrator provides: R(u) on a Tpetra map of unknowns (free grid dofs;
+// the map may change from one time step to the next) and an assembled matrix P ~ dR/du
+// (P = 4/dt^2 M_lumped + K) for the preconditioner or for assembled Newton.
+class ResidualModel {
+ public:
+  virtual ~ResidualModel() = default;
+  virtual Teuchos::RCP<const Map> unknownMap() const = 0;
+  // R(u) on unknownMap(); must overwrite every entry of R. Collective: all ranks call it.
+  virtual void residual(const Vector& u, Vector& R) = 0;
+  // Assembled approximation of the Jacobian; may be recomputed each call (values change with u for
+  // large deformation). Must be fill complete, with row, range and domain maps equal to unknownMap().
+  // Returning the same object (refilled, with a static graph) lets the preconditioner skip its
+  // symbolic setup (Ifpack2 initialize()); a new object triggers a full rebuild.
+  virtual Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) = 0;
+};
+
+struct NewtonResult {
+  bool converged = false;
+  int newtonIterations = 0;
+  // Per Newton iteration: GMRES iterations, 0 for a direct solve (1 for the direct solve on more than
+  // one rank, done as one GMRES iteration preconditioned by the exact inverse).
+  std::vector<int> krylovIterations;
+  // Final values of the three criteria: ||R(u)||_2 (absolute, unscaled), ||du_k|| / ||u_k|| and
+  // |du_k . R_k| / |du_0 . R_0| (both -1 when no Newton step was taken).
+  double finalResidualNorm = 0, displacementNorm = 0, energyNorm = 0;
+  std::string reason;  // why it stopped, human readable
+  // Cost accounting (same on every rank).
+  int residualEvaluations = 0;  // calls of ResidualModel::residual (J-free products included)
+  int jacobianEvaluations = 0;  // calls of ResidualModel::jacobianMatrix
+  int preconditionerInitializations = 0;  // Ifpack2 initialize() calls (symbolic setup)
+  double setupSeconds = 0;  // building the model evaluator, NOX group, status tests and solver
+  double solveSeconds = 0;  // wall time of the whole solve() call
+};
+
+class PreconditionerCache;  // solvers/ImplicitModelEvaluator.hpp
+
+class NewtonSolver {
+ public:
+  // `params` is the deck's "Implicit Solver" sublist: validated here with defaults filled in
+  // (top-level keys only; the pass-through sublists are copied, never modified). Null means all
+  // defaults. Throws std::invalid_argument naming 'Implicit Solver/<key>' on any bad entry.
+  explicit NewtonSolver(const Teuchos::RCP<Teuchos::ParameterList>& params);
+  ~NewtonSolver();
+  NewtonSolver(const NewtonSolver&) = delete;
+  NewtonSolver& operator=(const NewtonSolver&) = delete;
+
+  static Teuchos::RCP<const Teuchos::ParameterList> validParameters();
+
+  // Solves R(u) = 0 starting from u (in: initial guess, out: solution). u must be on
+  // model.unknownMap(). Collective. u holds the last iterate even when not converged.
+  NewtonResult solve(ResidualModel& model, Vector& u);
+
+  // The validated "Implicit Solver" list (defaults filled in).
+  const Teuchos::ParameterList& parameters() const { return *params_; }
+
+ private:
+  enum class JacobianMode { JacobianFree, Assembled };
+  enum class AssembledSolver { Amesos2, Belos };
+
+  Teuchos::RCP<Teuchos::ParameterList> params_;
+  JacobianMode jacobian_ = JacobianMode::JacobianFree;
+  AssembledSolver assembledSolver_ = AssembledSolver::Amesos2;
+  std::string precType_;
+  double displacementTol_ = 0, energyTol_ = 0, residualTol_ = 0, linearTol_ = 0;
+  int maxNewton_ = 0, maxKrylov_ = 0;
+
+  Teuchos::RCP<Teuchos::ParameterList> noxParams_;          // NOX sublist + our defaults
+  Teuchos::RCP<Teuchos::ParameterList> jfnkParams_;         // matrix-free operator settings
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lowsFactory_;
+  Teuchos::RCP<PreconditionerCache> prec_;                  // Ifpack2; null for "None" / direct solves
+  // Assembled + Amesos2 on more than one rank: Amesos2 13.2's KLU2 gives wrong solutions once the
+  // matrix is distributed (its gathered-matrix path), so P is gathered to rank 0 and factored there by
+  // KLU2 on a serial communicator; that exact inverse preconditions one GMRES iteration.
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> gatheredLowsFactory_;
+  Teuchos::RCP<PreconditionerCache> gatheredDirect_;
+
+  bool usesPreconditioner() const;
+};
+
+}  // namespace impm

@@ -1,0 +1,146 @@
+// The implicit Newmark integrator: its residual against its assembled matrix, one Newton
+// iteration for a linear step, energy in free vibration, agreement with the explicit
+// integrator, and np = 2 against a serial run of the same deck.
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <Teuchos_UnitTestHarness.hpp>
+#include <Teuchos_YamlParameterListCoreHelpers.hpp>
+#include <Tpetra_Core.hpp>
+
+#include <random>
+#include <sstream>
+
+#include "core/InputDeck.hpp"
+#include "physics/Body.hpp"
+#include "solvers/ImplicitNewmark.hpp"
+#include "solvers/Simulation.hpp"
+
+namespace {
+
+using namespace impm;
+using Teuchos::ParameterList;
+
+// The seed's bar (Problem 1), coarse: 30 x 2 cells, 3 x 3 particles per cell.
+ParameterList barDeck(const std::string& method, const std::string& integrator, double dt, int steps,
+                      const std::string& outdir) {
+  ParameterList d("impm");
+  d.sublist("Problem").set("Name", "implicit test bar").set("Output Directory", outdir);
+  auto& g = d.sublist("Grid");
+  g.set("Cells X", 30).set("Cells Y", 2).set("Cell Size X", 1e-3).set("Cell Size Y", 0.25e-3);
+  auto& m = d.sublist("Material");
+  m.set("Young Modulus", 200e9).set("Poisson Ratio", 0.3).set("Density", 7800.0).set("Thickness", 1e-3);
+  m.set("Plane Condition", "Plane Stress");
+  auto& b = d.sublist("Body");
+  b.set("X Max", 0.03).set("Y Max", 0.5e-3).set("Particles Per Cell X", 3).set("Particles Per Cell Y", 3);
+  d.sublist("Method").set("Shape Function", method);
+  d.sublist("Integrator").set("Type", integrator).set("Time Step", dt).set("Number of Steps", steps);
+  d.sublist("Constraints").sublist("fixed").set("Face", "x-").set("Components", "x");
+  d.sublist("Constraints").sublist("pin").set("Where", "Node").set("Components", "y");
+  d.sublist("Loads").sublist("end force").set("Face", "x+").set("Force X", 1.0);
+  d.sublist("Monitors").sublist("ux_L").set("X", 0.03).set("Y", 0.25e-3);
+  d.sublist("Monitors").sublist("ux_half").set("X", 0.015).set("Y", 0.25e-3);
+  d.sublist("Exact Solution").set("Type", "Bar Step Load").set("Load", "end force");
+  d.sublist("Output").set("Plot", false).set("Progress", false).set("History Interval", 1).set("VTK Interval", 0);
+  return d;
+}
+
+RunResult runDeck(ParameterList d, const Teuchos::RCP<const Teuchos::Comm<int>>& comm, Teuchos::FancyOStream& out) {
+  validateDeck(d);
+  Simulation sim(d, comm);
+  std::ostringstream log;
+  RunResult r = sim.run(log);
+  out << log.str();
+  return r;
+}
+
+// For MPM the residual is linear in u (small strain) and its exact derivative is the
+// assembled 4/dt^2 M + K: a finite difference of R along v matches P v to round-off.
+TEUCHOS_UNIT_TEST(Implicit, MpmJacobianFreeProductMatchesAssembled) {
+  auto comm = Tpetra::getDefaultComm();
+  ParameterList d = barDeck("MPM", "Implicit", 1e-8, 1, "test_output/implicit_jv");
+  validateDeck(d);
+  StructuredGrid g;
+  g.nx = 30; g.ny = 2; g.hx = 1e-3; g.hy = 0.25e-3;
+  GridDistribution dist(g, comm);
+  RectangularBody body{0.0, 0.03, 0.0, 0.5e-3, 3, 3, 1e-3};
+  LinearElastic mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStrain};
+  ParticleSet ps = createParticles(body, mat, dist);
+  NodalConstraints bc({ConstraintSpec{"left", "Face", "x-", 0, 0, true, false}}, body, dist);
+  LoadSet loads({}, body, dist, {});
+  ImplicitOptions opt;
+  opt.solverParams = Teuchos::rcp(new ParameterList(NewtonSolver::validParameters()->name()));
+  ImplicitNewmark<LinearMpm> model(ps, dist, mat, bc, loads, opt);
+  model.prepareStep(0.0, 1e-7);
+
+  const auto map = model.unknownMap();
+  Vector u(map), v(map), R0(map), R1(map), Pv(map), diff(map), up(map);
+  u.randomize(-1e-9, 1e-9);
+  v.randomize(-1.0, 1.0);
+  model.residual(u, R0);
+  const double eps = 1e-10;
+  up.update(1.0, u, eps, v, 0.0);
+  model.residual(up, R1);
+  diff.update(1.0 / eps, R1, -1.0 / eps, R0, 0.0);
+  model.jacobianMatrix(u)->apply(v, Pv);
+  const double normPv = Pv.norm2();
+  diff.update(-1.0, Pv, 1.0);
+  out << "||FD(R) v - P v|| / ||P v|| = " << diff.norm2() / normPv << "\n";
+  // Round-off of R (~1e-16 ||R||) divided by eps: about 1e-6 relative here.
+  TEST_COMPARE(diff.norm2() / normPv, <, 1e-5);
+  TEST_COMPARE(normPv, >, 0.0);
+}
+
+// A linear step with the assembled matrix and a direct solve converges in one Newton iteration.
+TEUCHOS_UNIT_TEST(Implicit, LinearStepTakesOneNewtonIteration) {
+  ParameterList d = barDeck("MPM", "Implicit", 1e-7, 5, "test_output/implicit_one_newton");
+  d.sublist("Implicit Solver").set("Jacobian", "Assembled");
+  ParameterList s("summary");
+  const RunResult r = runDeck(d, Tpetra::getDefaultComm(), out);
+  (void)r;
+  // The summary written by the run carries the solver figures.
+  const auto summary = Teuchos::getParametersFromYamlFile("test_output/implicit_one_newton/summary.yaml");
+  const ParameterList& solver = summary->sublist("Solver");
+  out << "Newton iterations: mean " << solver.get<double>("Newton Iterations Mean") << ", max "
+      << solver.get<int>("Newton Iterations Max") << "\n";
+  TEST_EQUALITY_CONST(solver.get<int>("Newton Iterations Max"), 1);
+}
+
+// At a small step both integrators follow the same bar: their tip displacements agree far
+// better than either agrees with the exact solution.
+TEUCHOS_UNIT_TEST(Implicit, AgreesWithExplicitAtSmallStep) {
+  auto comm = Tpetra::getDefaultComm();
+  const RunResult ex = runDeck(barDeck("GIMP", "Explicit", 2e-9, 1000, "test_output/agree_explicit"), comm, out);
+  const RunResult im = runDeck(barDeck("GIMP", "Implicit", 2e-9, 1000, "test_output/agree_implicit"), comm, out);
+  const auto& a = ex.computed.at("ux_L");
+  const auto& b = im.computed.at("ux_L");
+  TEST_EQUALITY(a.size(), b.size());
+  double num = 0, den = 0;
+  for (size_t i = 0; i < a.size(); ++i) { num += (a[i] - b[i]) * (a[i] - b[i]); den += a[i] * a[i]; }
+  out << "relative L2 difference explicit/implicit: " << std::sqrt(num / den) << "\n";
+  TEST_COMPARE(std::sqrt(num / den), <, 0.01);
+}
+
+// np = 2 gives the same displacements as a serial run of the same deck (every rank also runs
+// it on MPI_COMM_SELF). With a direct solve the two differ only by round-off.
+TEUCHOS_UNIT_TEST(Implicit, DistributedMatchesSerial) {
+  auto comm = Tpetra::getDefaultComm();
+  auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
+  for (const std::string method : {"MPM", "GIMP"}) {
+    ParameterList d = barDeck(method, "Implicit", 1e-8, 200, "test_output/implicit_np_" + method);
+    d.sublist("Implicit Solver").set("Jacobian", "Assembled");
+    d.sublist("Implicit Solver").set("Displacement Tolerance", 1e-13);
+    const RunResult distributed = runDeck(d, comm, out);
+    d.sublist("Problem").set("Output Directory", "test_output/implicit_np_self_" + method + "_" +
+                                                     std::to_string(comm->getRank()));
+    const RunResult serial = runDeck(d, self, out);
+    for (const std::string name : {"ux_L", "ux_half"}) {
+      const auto& a = distributed.computed.at(name);
+      const auto& b = serial.computed.at(name);
+      double maxDiff = 0, scale = 0;
+      for (size_t i = 0; i < a.size(); ++i) { maxDiff = std::max(maxDiff, std::abs(a[i] - b[i])); scale = std::max(scale, std::abs(b[i])); }
+      out << method << " " << name << ": max |u(np) - u(serial)| / max |u| = " << maxDiff / scale << "\n";
+      TEST_COMPARE(maxDiff / scale, <, 1e-10);
+    }
+  }
+}
+
+}  // namespace

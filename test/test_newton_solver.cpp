@@ -1,0 +1,427 @@
+// NewtonSolver (solvers/NewtonSolver.hpp) on a toy implicit Newmark step of a 1D bar:
+//   R(u) = (4/dt^2) M u + K u + c u^3 - f
+// with lumped mass M, the stiffness K = E/h tridiag(-1, 2, -1) of fixed-fixed linear elements,
+// a cubic spring c u^3 per node (c = 0: linear) and uniform nodal loads f. P = 4/dt^2 M + K + 3 c diag(u^2)
+// is the exact Jacobian here. Scales: unit bar, rho = 1, E from 1 to 100, dt = 0.01, load 40 per length,
+// so u ~ 1e-3 (displacement-like), ||R(0)|| ~ 1, and with c = kCubic the cubic term's stiffness 3 c u^2 is
+// comparable to the inertia term 4/dt^2 m.
+// Runs at np = 1 and np = 2.
+#include "solvers/NewtonSolver.hpp"
+
+#include <Teuchos_CommandLineProcessor.hpp>
+#include <Teuchos_UnitTestHarness.hpp>
+#include <Teuchos_UnitTestRepository.hpp>
+#include <Tpetra_Core.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+using impm::CrsMatrix;
+using impm::GO;
+using impm::LO;
+using impm::Map;
+using impm::NewtonResult;
+using impm::NewtonSolver;
+using impm::Scalar;
+using impm::Vector;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
+
+constexpr double kCubic = 1e7;
+
+class NewmarkBar : public impm::ResidualModel {
+ public:
+  // n free nodes of a unit bar; c: cubic spring coefficient; newMatrixEachCall: jacobianMatrix returns
+  // a new matrix object every time (otherwise one static-graph matrix refilled in place); dt: time
+  // step; massDecades > 0: nodal masses spread over that many decades (nearly empty MPM cells).
+  NewmarkBar(GO n, double c, bool newMatrixEachCall = false, double dt = 0.01, double massDecades = 0)
+      : c_(c), newMatrixEachCall_(newMatrixEachCall) {
+    map_ = rcp(new Map(n, 0, Tpetra::getDefaultComm()));
+    const double h = 1.0 / (n + 1), rho = 1.0, q = 40.0;
+    load_ = q * h;
+    // Element e joins nodes e-1 and e (nodes -1 and n are the fixed ends). Young's modulus grows
+    // from 1 to 100 along the bar and the lumped nodal masses vary by +-50 % (partly filled cells).
+    auto E = [&](GO e) { return std::pow(10.0, 2.0 * (e + 0.5) / (n + 1)); };
+    auto mass = [&](GO g) {
+      const double fill = massDecades > 0 ? std::pow(10.0, -massDecades * std::fmod(0.6180339887 * g, 1.0))
+                                          : 1.0 + 0.5 * std::cos(37.0 * g);
+      return 4.0 / (dt * dt) * rho * h * fill;
+    };
+    const LO nLocal = static_cast<LO>(map_->getNodeNumElements());
+    cols_.resize(nLocal);
+    vals_.resize(nLocal);
+    diag_.resize(nLocal);
+    A_ = rcp(new CrsMatrix(map_, 3));
+    for (LO i = 0; i < nLocal; ++i) {
+      const GO g = map_->getGlobalElement(i);
+      const double kl = E(g) / h, kr = E(g + 1) / h;
+      if (g > 0) cols_[i].push_back(g - 1), vals_[i].push_back(-kl);
+      diag_[i] = vals_[i].size();
+      cols_[i].push_back(g), vals_[i].push_back(kl + kr + mass(g));
+      if (g < n - 1) cols_[i].push_back(g + 1), vals_[i].push_back(-kr);
+      A_->insertGlobalValues(g, Teuchos::ArrayView<const GO>(cols_[i]), Teuchos::ArrayView<const Scalar>(vals_[i]));
+    }
+    A_->fillComplete();
+    J_ = rcp(new CrsMatrix(A_->getCrsGraph()));
+    J_->fillComplete();
+  }
+
+  RCP<const Map> unknownMap() const override { return map_; }
+
+  void residual(const Vector& u, Vector& R) override {
+    A_->apply(u, R);
+    {
+      auto uh = u.getLocalViewHost(Tpetra::Access::ReadOnly);
+      auto Rh = R.getLocalViewHost(Tpetra::Access::ReadWrite);
+      for (size_t i = 0; i < uh.extent(0); ++i) Rh(i, 0) += c_ * uh(i, 0) * uh(i, 0) * uh(i, 0) - load_;
+    }
+    residualNorms.push_back(R.norm2());
+  }
+
+  RCP<const CrsMatrix> jacobianMatrix(const Vector& u) override {
+    ++jacobianCalls;
+    if (c_ == 0 && !newMatrixEachCall_) return A_;
+    RCP<CrsMatrix> J = J_;
+    if (newMatrixEachCall_)
+      J = rcp(new CrsMatrix(A_->getCrsGraph()));
+    else
+      J->resumeFill();
+    auto uh = u.getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (LO i = 0; i < static_cast<LO>(cols_.size()); ++i) {
+      std::vector<Scalar> vals = vals_[i];
+      vals[diag_[i]] += 3 * c_ * uh(i, 0) * uh(i, 0);
+      J->replaceGlobalValues(map_->getGlobalElement(i), Teuchos::ArrayView<const GO>(cols_[i]),
+                             Teuchos::ArrayView<const Scalar>(vals));
+    }
+    J->fillComplete();
+    return J;
+  }
+
+  std::vector<double> residualNorms;  // ||R|| of every residual() call
+  int jacobianCalls = 0;
+
+ private:
+  double c_;
+  bool newMatrixEachCall_;
+  double load_ = 0;
+  RCP<const Map> map_;
+  RCP<CrsMatrix> A_, J_;
+  std::vector<std::vector<GO>> cols_;  // rows of A (global columns) ...
+  std::vector<std::vector<Scalar>> vals_;
+  std::vector<size_t> diag_;  // ... and where the diagonal sits in each
+};
+
+RCP<ParameterList> params(const std::string& jacobian, const std::string& prec = "RILUK") {
+  auto pl = rcp(new ParameterList("Implicit Solver"));
+  pl->set("Jacobian", jacobian);
+  pl->set("Preconditioner", prec);
+  return pl;
+}
+
+double relDiff(const Vector& a, const Vector& b) {
+  Vector d(a, Teuchos::Copy);
+  d.update(-1.0, b, 1.0);
+  return d.norm2() / b.norm2();
+}
+
+std::string summarize(const NewtonResult& r) {
+  std::ostringstream os;
+  os << r.reason << "; Krylov per Newton step:";
+  for (int k : r.krylovIterations) os << " " << k;
+  return os.str();
+}
+
+// Expects `f` to throw std::invalid_argument whose message contains every string in `parts`.
+template <class F>
+bool throwsNaming(F f, const std::vector<std::string>& parts, std::ostream& out) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    out << "  message: " << e.what() << "\n";
+    for (const auto& p : parts)
+      if (std::string(e.what()).find(p) == std::string::npos) return false;
+    return true;
+  }
+  out << "  no std::invalid_argument thrown\n";
+  return false;
+}
+
+// Largest problem of SetupCostIsSmall; --newton-max-size=100000 for the full measurement.
+int maxSetupSize = 10000;
+
+}  // namespace
+
+TEUCHOS_STATIC_SETUP() {
+  Teuchos::UnitTestRepository::getCLP().setOption(
+      "newton-max-size", &maxSetupSize, "largest number of unknowns in NewtonSolver.SetupCostIsSmall");
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, ValidParametersAreDocumentedWithDefaults) {
+  auto valid = NewtonSolver::validParameters();
+  for (const char* key : {"Jacobian", "Assembled Linear Solver", "Preconditioner", "Displacement Tolerance",
+                          "Energy Tolerance", "Residual Tolerance", "Maximum Newton Iterations", "Linear Tolerance",
+                          "Maximum Krylov Iterations", "Ifpack2", "NOX", "Stratimikos", "Jacobian-Free Operator"}) {
+    TEST_ASSERT(valid->isParameter(key));
+    if (valid->isParameter(key)) TEST_ASSERT(!valid->getEntry(key).docString().empty());
+  }
+  NewtonSolver solver(Teuchos::null);
+  const ParameterList& pl = solver.parameters();
+  TEST_EQUALITY(pl.get<std::string>("Jacobian"), "Jacobian-Free");
+  TEST_EQUALITY(pl.get<std::string>("Preconditioner"), "RILUK");
+  TEST_EQUALITY(pl.get<double>("Displacement Tolerance"), 1e-10);
+  TEST_EQUALITY(pl.get<double>("Linear Tolerance"), 1e-4);
+  TEST_EQUALITY(pl.get<int>("Maximum Krylov Iterations"), 200);
+  TEST_EQUALITY(pl.get<int>("Maximum Newton Iterations"), 20);
+
+  // Integers are accepted for real-valued keys (YAML writes 1 for 1.0) and stored as double.
+  auto ints = rcp(new ParameterList("Implicit Solver"));
+  ints->set("Residual Tolerance", 0);
+  NewtonSolver fromInts(ints);
+  TEST_EQUALITY(ints->get<double>("Residual Tolerance"), 0.0);
+  // The deck's list gets the defaults; pass-through sublists stay as written.
+  TEST_ASSERT(ints->isParameter("Energy Tolerance"));
+  TEST_EQUALITY(ints->sublist("NOX").numParams(), 0);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, BadParametersThrowNamingTheKey) {
+  auto bad = [](const std::string& key, auto value) {
+    auto pl = rcp(new ParameterList("Implicit Solver"));
+    pl->set(key, value);
+    return [pl]() { NewtonSolver s(pl); };
+  };
+  TEST_ASSERT(throwsNaming(bad("Preconditioner", std::string("FOO")), {"'Implicit Solver/Preconditioner'", "FOO"}, out));
+  TEST_ASSERT(throwsNaming(bad("Jacobian", std::string("Exact")), {"'Implicit Solver/Jacobian'", "Exact"}, out));
+  TEST_ASSERT(throwsNaming(bad("Displacement Tolerance", -1e-10),
+                           {"'Implicit Solver/Displacement Tolerance' must be positive"}, out));
+  TEST_ASSERT(throwsNaming(bad("Energy Tolerance", -1.0), {"'Implicit Solver/Energy Tolerance' must be positive"}, out));
+  TEST_ASSERT(throwsNaming(bad("Linear Tolerance", -1e-4), {"'Implicit Solver/Linear Tolerance' must be positive"}, out));
+  TEST_ASSERT(throwsNaming(bad("Residual Tolerance", -1.0), {"'Implicit Solver/Residual Tolerance'"}, out));
+  TEST_ASSERT(throwsNaming(bad("Maximum Newton Iterations", 0), {"'Implicit Solver/Maximum Newton Iterations'"}, out));
+  TEST_ASSERT(throwsNaming(bad("Displacement Tolerance", std::string("tiny")), {"'Implicit Solver/Displacement Tolerance'"}, out));
+  TEST_ASSERT(throwsNaming(bad("Newton Tolerance", 1e-8), {"'Implicit Solver/Newton Tolerance'"}, out));
+
+  // Ifpack2 checks its own list; the error names the pass-through sublist.
+  auto relax = params("Jacobian-Free", "RELAXATION");
+  relax->sublist("Ifpack2").set("relaxation: type", "Bogus");
+  TEST_ASSERT(throwsNaming([relax]() { NewtonSolver s(relax); }, {"'Implicit Solver/Ifpack2'"}, out));
+  // Stratimikos likewise.
+  auto strat = params("Jacobian-Free");
+  strat->sublist("Stratimikos").set("Linear Solver Type", "Amesos2");
+  TEST_ASSERT(throwsNaming([strat]() { NewtonSolver s(strat); }, {"'Implicit Solver/Stratimikos/Linear Solver Type'"}, out));
+  auto belos = params("Jacobian-Free");
+  belos->sublist("Stratimikos").sublist("Linear Solver Types").sublist("Belos").set("Solver Type", "No Such Solver");
+  TEST_ASSERT(throwsNaming([belos]() { NewtonSolver s(belos); }, {"'Implicit Solver/Stratimikos'"}, out));
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, LinearAssembledDirectTakesOneNewtonStep) {
+  NewmarkBar bar(1000, 0.0);
+  NewtonSolver solver(params("Assembled"));
+  Vector u(bar.unknownMap());
+  const NewtonResult r = solver.solve(bar, u);
+  out << summarize(r) << "\n";
+  TEST_ASSERT(r.converged);
+  TEST_EQUALITY(r.newtonIterations, 1);
+  TEST_EQUALITY(r.krylovIterations.size(), 1u);
+  // A true direct solve on one rank; on more, one GMRES iteration with the exact (gathered) inverse.
+  const int np = Tpetra::getDefaultComm()->getSize();
+  if (!r.krylovIterations.empty()) TEST_EQUALITY(r.krylovIterations[0], np == 1 ? 0 : 1);
+  TEST_ASSERT(r.finalResidualNorm < 1e-10);
+  TEST_EQUALITY(r.jacobianEvaluations, 1);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, LinearJacobianFreeTakesAtMostTwoNewtonSteps) {
+  NewmarkBar bar(1000, 0.0);
+  auto pl = params("Jacobian-Free");
+  pl->set("Linear Tolerance", 1e-8);
+  NewtonSolver solver(pl);
+  Vector u(bar.unknownMap());
+  const NewtonResult r = solver.solve(bar, u);
+  out << summarize(r) << "\n";
+  TEST_ASSERT(r.converged);
+  TEST_ASSERT(r.newtonIterations >= 1 && r.newtonIterations <= 2);
+
+  NewmarkBar ref(1000, 0.0);
+  NewtonSolver direct(params("Assembled"));
+  Vector uRef(ref.unknownMap());
+  direct.solve(ref, uRef);
+  TEST_ASSERT(relDiff(u, uRef) < 1e-8);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, NonlinearAssembledConvergesQuadratically) {
+  NewmarkBar bar(1000, kCubic);
+  NewtonSolver solver(params("Assembled"));
+  Vector u(bar.unknownMap());
+  const NewtonResult r = solver.solve(bar, u);
+  out << summarize(r) << "\n  ||R_k||:";
+  for (double n : bar.residualNorms) out << " " << std::scientific << std::setprecision(2) << n;
+  out << "\n";
+  TEST_ASSERT(r.converged);
+  TEST_ASSERT(r.newtonIterations >= 3 && r.newtonIterations <= 8);
+  // One residual per Newton iterate here (no finite differences): r_{k+1} <= C r_k^2 once in the
+  // asymptotic range, above round-off.
+  const auto& R = bar.residualNorms;
+  TEST_EQUALITY(static_cast<int>(R.size()), r.newtonIterations + 1);
+  const double r0 = R.front();
+  int quadraticSteps = 0;
+  for (size_t k = 0; k + 1 < R.size(); ++k) {
+    const double a = R[k] / r0, b = R[k + 1] / r0;
+    TEST_ASSERT(b < a);  // monotone
+    if (a < 1e-2 && a * a > 1e-12) {  // asymptotic range, and a * a well above round-off
+      out << "  step " << k << ": r_k = " << a << ", r_k+1 = " << b << ", r_k+1/r_k^2 = " << b / (a * a) << "\n";
+      TEST_ASSERT(b <= 10.0 * a * a);
+      ++quadraticSteps;
+    }
+  }
+  TEST_ASSERT(quadraticSteps >= 1);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, JacobianFreeMatchesAssembledNewton) {
+  NewmarkBar a(1000, kCubic), b(1000, kCubic);
+  Vector uA(a.unknownMap()), uJ(b.unknownMap());
+  const NewtonResult rA = NewtonSolver(params("Assembled")).solve(a, uA);
+  const NewtonResult rJ = NewtonSolver(params("Jacobian-Free")).solve(b, uJ);
+  out << "assembled: " << summarize(rA) << "\njacobian-free: " << summarize(rJ) << "\n";
+  TEST_ASSERT(rA.converged);
+  TEST_ASSERT(rJ.converged);
+  const double d = relDiff(uJ, uA);
+  out << "relative difference " << d << "\n";
+  TEST_ASSERT(d < 1e-8);
+  TEST_ASSERT(uA.norm2() > 1e-2);  // a real deflection, not a trivial zero
+}
+
+// Krylov iterations of Jacobian-free solves with each preconditioner, on two steps:
+//  "large step": dt = 0.01, far above the explicit limit (K dominates P; nonlinear), and
+//  "small step": dt = 1e-4 with nodal masses over 3 decades (M dominates P and is badly scaled; linear).
+std::map<std::string, int> krylovTotals(const std::string& label, GO n, double c, double dt, double massDecades,
+                                        Teuchos::FancyOStream& out, bool& success) {
+  const int np = Tpetra::getDefaultComm()->getSize();
+  NewmarkBar refBar(n, c, false, dt, massDecades);
+  Vector uRef(refBar.unknownMap());
+  NewtonSolver(params("Assembled")).solve(refBar, uRef);
+  out << label << " (np = " << np << ", n = " << n << ", Linear Tolerance 1e-4, Maximum Krylov Iterations 200):\n";
+  std::map<std::string, int> total;
+  for (const char* prec : {"None", "RELAXATION", "CHEBYSHEV", "ILUT", "RILUK"}) {
+    NewmarkBar bar(n, c, false, dt, massDecades);
+    Vector u(bar.unknownMap());
+    const NewtonResult r = NewtonSolver(params("Jacobian-Free", prec)).solve(bar, u);
+    int sum = 0;
+    for (int k : r.krylovIterations) sum += k;
+    total[prec] = sum;
+    out << "  " << std::setw(10) << prec << ": Newton " << r.newtonIterations << ", Krylov total " << std::setw(4)
+        << sum << ", residual evaluations " << std::setw(4) << r.residualEvaluations << " | " << summarize(r) << "\n";
+    TEST_ASSERT(r.converged);
+    TEST_EQUALITY(static_cast<int>(r.krylovIterations.size()), r.newtonIterations);
+    TEST_ASSERT(relDiff(u, uRef) < 1e-8);
+  }
+  return total;
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, PreconditionersReduceKrylovIterations) {
+  // n = 400 keeps this affordable when the test runs oversubscribed (np 2 x OpenMP threads).
+  auto large = krylovTotals("large step", 400, kCubic, 0.01, 0, out, success);
+  // Stiffness-dominated: the ILU preconditioners do the work; diagonal ones can hardly help.
+  TEST_ASSERT(large["RILUK"] < large["None"] / 10);
+  TEST_ASSERT(large["ILUT"] < large["None"] / 10);
+  auto small = krylovTotals("small step, light nodes", 400, 0.0, 1e-4, 3.0, out, success);
+  for (const char* prec : {"RELAXATION", "CHEBYSHEV", "ILUT", "RILUK"}) TEST_ASSERT(small[prec] < small["None"] / 2);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, AssembledBelosMatchesDirect) {
+  NewmarkBar a(1000, kCubic), b(1000, kCubic);
+  Vector uA(a.unknownMap()), uB(b.unknownMap());
+  auto pl = params("Assembled", "RILUK");
+  pl->set("Assembled Linear Solver", "Belos");
+  const NewtonResult rB = NewtonSolver(pl).solve(b, uB);
+  const NewtonResult rA = NewtonSolver(params("Assembled")).solve(a, uA);
+  out << summarize(rB) << "\n";
+  TEST_ASSERT(rB.converged);
+  TEST_ASSERT(rB.krylovIterations.size() == static_cast<size_t>(rB.newtonIterations));
+  if (!rB.krylovIterations.empty()) TEST_ASSERT(rB.krylovIterations[0] > 0);
+  TEST_ASSERT(relDiff(uB, uA) < 1e-8);
+  // W_op and W_prec at the same iterate share one assembly.
+  TEST_EQUALITY(rB.jacobianEvaluations, rB.newtonIterations);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, DisplacementAndEnergyCriteriaAlone) {
+  NewmarkBar bar(1000, kCubic);
+  auto pl = params("Assembled");
+  pl->set("Residual Tolerance", 0.0);  // off: only displacement AND energy can stop it
+  Vector u(bar.unknownMap());
+  const NewtonResult r = NewtonSolver(pl).solve(bar, u);
+  out << summarize(r) << "\n";
+  TEST_ASSERT(r.converged);
+  TEST_ASSERT(r.reason.find("energy") != std::string::npos);
+  TEST_ASSERT(r.displacementNorm >= 0 && r.displacementNorm <= 1e-10);
+  TEST_ASSERT(r.energyNorm >= 0 && r.energyNorm <= 1e-20);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, MaximumNewtonIterationsStops) {
+  NewmarkBar bar(1000, kCubic);
+  auto pl = params("Jacobian-Free", "None");
+  pl->set("Maximum Newton Iterations", 2);
+  pl->set("Residual Tolerance", 0.0);
+  Vector u(bar.unknownMap());
+  const NewtonResult r = NewtonSolver(pl).solve(bar, u);
+  out << summarize(r) << "\n";
+  TEST_ASSERT(!r.converged);
+  TEST_EQUALITY(r.newtonIterations, 2);
+  TEST_ASSERT(r.reason.find("Maximum Newton Iterations") != std::string::npos);
+  TEST_ASSERT(u.norm2() > 0);  // u holds the last iterate
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, MapMayChangeBetweenSolves) {
+  // One solver over several "time steps" whose unknown maps differ; the preconditioner's symbolic
+  // setup is redone only when the matrix object changes.
+  NewtonSolver solver(params("Jacobian-Free", "RILUK"));
+  NewmarkBar a(1000, kCubic), b(700, kCubic), c(1000, kCubic, /*newMatrixEachCall=*/true);
+  Vector uA(a.unknownMap()), uB(b.unknownMap()), uC(c.unknownMap());
+  const NewtonResult r1 = solver.solve(a, uA);
+  const NewtonResult r2 = solver.solve(b, uB);
+  uA.putScalar(0.0);
+  const NewtonResult r3 = solver.solve(a, uA);  // same static-graph matrix object as r1
+  const NewtonResult r4 = solver.solve(c, uC);  // a new matrix object at every Newton step
+  for (const auto* r : {&r1, &r2, &r3, &r4})
+    out << summarize(*r) << " (jacobians " << r->jacobianEvaluations << ", initialize() " << r->preconditionerInitializations
+        << ")\n";
+  TEST_ASSERT(r1.converged && r2.converged && r3.converged && r4.converged);
+  TEST_EQUALITY(r1.preconditionerInitializations, 1);
+  TEST_EQUALITY(r2.preconditionerInitializations, 1);
+  TEST_EQUALITY(r3.preconditionerInitializations, 1);  // the cache held b's matrix in between
+  TEST_EQUALITY(r4.preconditionerInitializations, r4.jacobianEvaluations);
+  TEST_EQUALITY(r1.newtonIterations, r3.newtonIterations);
+  auto loose = params("Jacobian-Free", "RILUK");
+  loose->set("Residual Tolerance", 1e-6);
+  const NewtonResult r5 = NewtonSolver(loose).solve(c, uC);  // converged start: no Newton step at all
+  out << summarize(r5) << "\n";
+  TEST_ASSERT(r5.converged);
+  TEST_EQUALITY(r5.newtonIterations, 0);
+  TEST_EQUALITY(r5.krylovIterations.size(), 0u);
+
+  Vector wrongMap(b.unknownMap());
+  TEST_THROW(solver.solve(a, wrongMap), std::invalid_argument);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, SetupCostIsSmall) {
+  // Model evaluator, NOX group, status tests and solver are rebuilt at every solve(): measure them
+  // against the solve itself (printed; loose bound only).
+  for (GO n = 1000; n <= maxSetupSize; n *= 10) {
+    for (const char* jac : {"Jacobian-Free", "Assembled"}) {
+      NewmarkBar bar(n, kCubic);
+      Vector u(bar.unknownMap());
+      NewtonSolver solver(params(jac));
+      const NewtonResult r = solver.solve(bar, u);
+      out << "  n = " << std::setw(6) << n << " " << std::setw(13) << jac << ": setup " << std::scientific
+          << std::setprecision(2) << r.setupSeconds << " s of " << r.solveSeconds << " s; Newton "
+          << r.newtonIterations << ", residuals " << r.residualEvaluations << "\n";
+      TEST_ASSERT(r.converged);
+      TEST_ASSERT(r.setupSeconds < 0.5);
+    }
+  }
+}
