@@ -20,6 +20,11 @@ struct ParticleStencil {
     build1d(y, g.y0, g.hy, ly, g.ny, j0, nj, wy, gy);
   }
 
+  // Node counts per direction; compile-time constants for shapes with a fixed count, so that
+  // kernels' loops unroll.
+  KOKKOS_INLINE_FUNCTION int countX() const { return Shape::fixed_count ? N : ni; }
+  KOKKOS_INLINE_FUNCTION int countY() const { return Shape::fixed_count ? N : nj; }
+
   KOKKOS_INLINE_FUNCTION double weight(int a, int b) const { return wx[a] * wy[b]; }
   KOKKOS_INLINE_FUNCTION double gradX(int a, int b) const { return gx[a] * wy[b]; }
   KOKKOS_INLINE_FUNCTION double gradY(int a, int b) const { return wx[a] * gy[b]; }
@@ -28,9 +33,15 @@ struct ParticleStencil {
   KOKKOS_INLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,
                                              int& first, int& count, double* w, double* gr) {
     Shape::range((x - origin) / h, l / h, first, count);
-    // Nodes outside the grid carry (to round-off) zero weight: drop them.
-    if (first < 0) { count += first; first = 0; }
-    if (first + count > ncells + 1) count = ncells + 1 - first;
+    if (Shape::fixed_count) {
+      // Keep the full stencil inside the grid (a particle on the last grid line uses the last cell).
+      if (first < 0) first = 0;
+      if (first > ncells - count + 1) first = ncells - count + 1;
+    } else {
+      // Nodes outside the grid carry (to round-off) zero weight: drop them.
+      if (first < 0) { count += first; first = 0; }
+      if (first + count > ncells + 1) count = ncells + 1 - first;
+    }
     for (int a = 0; a < count; ++a) {
       const double r = x - (origin + (first + a) * h);
       w[a] = Shape::value(r, h, l);

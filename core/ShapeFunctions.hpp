@@ -17,6 +17,7 @@ KOKKOS_INLINE_FUNCTION int floorToInt(double x) {
 // r = x_p - x_i, h = cell size. The half domain size l is ignored.
 struct LinearMpm {
   static constexpr int max_nodes_1d = 2;
+  static constexpr bool fixed_count = true;  // always 2 nodes per direction inside the grid
   static constexpr const char* name = "MPM";
 
   KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/) {
@@ -40,6 +41,7 @@ struct LinearMpm {
 // weight is (1/V_p) int chi_p dN_i/dx dx = dS_ip/dx_p. Closed forms per 1D interval.
 struct UniformGimp {
   static constexpr int max_nodes_1d = 3;
+  static constexpr bool fixed_count = false;  // 2 or 3 nodes per direction
   static constexpr const char* name = "GIMP";
 
   KOKKOS_INLINE_FUNCTION static double value(double r, double h, double l) {

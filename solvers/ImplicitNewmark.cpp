@@ -352,8 +352,8 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
         "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
           const ParticleStencil<Shape> stn(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
           double ux = 0, uy = 0, ax = 0, ay = 0;
-          for (int i = 0; i < stn.ni; ++i)
-            for (int j = 0; j < stn.nj; ++j) {
+          for (int i = 0; i < stn.countX(); ++i)
+            for (int j = 0; j < stn.countY(); ++j) {
               const int n = ix(stn.i0 + i, stn.j0 + j);
               const double w = stn.weight(i, j);
               ux += w * d(n, dp::UX); uy += w * d(n, dp::UY);

@@ -25,8 +25,8 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
       "g2p", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
         double vx = 0, vy = 0, ax = 0, ay = 0, l00 = 0, l01 = 0, l10 = 0, l11 = 0;
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = st.weight(aI, bJ), dx = st.gradX(aI, bJ), dy = st.gradY(aI, bJ);
             const double gvx = kinematics(n, kin::VelX), gvy = kinematics(n, kin::VelY);
@@ -55,8 +55,8 @@ void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix
       "grid_gradient", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
         double l00 = 0, l01 = 0, l10 = 0, l11 = 0;
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double dx = st.gradX(aI, bJ), dy = st.gradY(aI, bJ);
             const double wx = field(n, col), wy = field(n, col + 1);
@@ -75,8 +75,8 @@ void moveParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const Pa
       "move_particles", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
         double ux = 0, uy = 0;
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = st.weight(aI, bJ);
             ux += w * field(n, col); uy += w * field(n, col + 1);

@@ -16,8 +16,8 @@ template <class Shape, class Access>
 KOKKOS_INLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shape>& st, const LocalNodeIndexer& ix,
                                                  double V, double sxx, double syy, double sxy, Access& out,
                                                  int forceCol) {
-  for (int aI = 0; aI < st.ni; ++aI)
-    for (int bJ = 0; bJ < st.nj; ++bJ) {
+  for (int aI = 0; aI < st.countX(); ++aI)
+    for (int bJ = 0; bJ < st.countY(); ++bJ) {
       const int n = ix(st.i0 + aI, st.j0 + bJ);
       const double dx = st.gradX(aI, bJ), dy = st.gradY(aI, bJ);
       out(n, forceCol) += -V * (sxx * dx + sxy * dy);

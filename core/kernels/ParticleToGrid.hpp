@@ -23,8 +23,8 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
         const double mp = m(p), vx = v(p, 0), vy = v(p, 1);
         const double ax = accCol >= 0 ? a(p, 0) : 0.0, ay = accCol >= 0 ? a(p, 1) : 0.0;
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = mp * st.weight(aI, bJ);
             out(n, massCol) += w;
@@ -52,8 +52,8 @@ void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeInde
         auto out = sv.access();
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
         const double mp = m(p), vx = v(p, 0), vy = v(p, 1);
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = mp * st.weight(aI, bJ);
             out(n, massCol) += w;
@@ -81,16 +81,16 @@ void particleToGridProjectionResidual(const StructuredGrid& g, const LocalNodeIn
         auto out = sv.access();
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
         double vx = 0, vy = 0;
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = st.weight(aI, bJ);
             vx += w * velocity(n, velCol);
             vy += w * velocity(n, velCol + 1);
           }
         const double rx = m(p) * (v(p, 0) - vx), ry = m(p) * (v(p, 1) - vy);
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = st.weight(aI, bJ);
             out(n, outCol) += w * rx;
@@ -110,8 +110,8 @@ void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, c
       "p2g_point_forces", Kokkos::RangePolicy<ExecSpace>(0, index.extent(0)), KOKKOS_LAMBDA(int k) {
         const int p = index(k);
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-        for (int aI = 0; aI < st.ni; ++aI)
-          for (int bJ = 0; bJ < st.nj; ++bJ) {
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = st.weight(aI, bJ);
             Kokkos::atomic_add(&grid(n, forceCol), w * force(k, 0));
