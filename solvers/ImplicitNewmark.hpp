@@ -28,6 +28,9 @@ struct ImplicitOptions {
   double massTolerance = 1e-12;  // nodes lighter than this fraction of the heaviest particle are void
   int maxStepHalvings = 4;       // a step whose Newton iteration fails is retried with dt/2, dt/4, ...
   bool consistentInitialAcceleration = true;  // a(0) = M^-1 (F_ext(0) - F_int(0)) instead of zero
+  // Jacobi iterations towards the consistent-mass projection of particle velocity and
+  // acceleration to the grid (0: lumped p / m). See ExplicitStepper.
+  int projectionIterations = 0;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 
@@ -68,6 +71,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void finishStep(const Vector& u);      // grid and particle update with the converged u
   void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
   void trialStress(double scale);        // trial stress from the ghosted grid displacement
+  void correctProjection();              // consistent-mass correction of v and a on the grid
 
   ParticleSet& ps_;
   const GridDistribution& dist_;

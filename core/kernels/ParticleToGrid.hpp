@@ -71,11 +71,15 @@ void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeInde
 // for grid velocities v in columns velCol, velCol+1 of `velocity`. One Jacobi correction
 // v += M_L^-1 r removes the O(h^2) smoothing that the lumped projection M_L^-1 p applies to
 // a velocity field every step (see ExplicitStepper).
+// `particleField` is the particle field being projected (ps.v by default; ps.a for the
+// implicit integrator's accelerations).
 template <class ExecSpace, class Shape, class VelocityView, class GridView>
 void particleToGridProjectionResidual(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                                      const VelocityView& velocity, int velCol, const GridView& grid, int outCol) {
+                                      const VelocityView& velocity, int velCol, const GridView& grid, int outCol,
+                                      const ParticleSet::Vec2* particleField = nullptr) {
   auto sv = Kokkos::Experimental::create_scatter_view(grid);
-  auto x = ps.x; auto hs = ps.halfSize; auto m = ps.mass; auto v = ps.v;
+  auto x = ps.x; auto hs = ps.halfSize; auto m = ps.mass;
+  auto v = particleField ? *particleField : ps.v;
   Kokkos::parallel_for(
       "p2g_projection_residual", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         auto out = sv.access();
