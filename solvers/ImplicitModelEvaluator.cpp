@@ -57,7 +57,7 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   return prec;
 }
 
-RCP<TpetraOperator> IfpackPreconditionerCache::update(const RCP<const CrsMatrix>& P) {
+RCP<TpetraOperator> IfpackPreconditionerCache::update(const RCP<const CrsMatrix>& P, long valuesVersion) {
   // Same object with a static (const) graph: only the values can have changed, so the symbolic
   // setup stands. Anything else may have a new structure: start from a fresh preconditioner.
   const bool sameStructure = !prec_.is_null() && P.get() == matrix_.get() && P->isStaticGraph();
@@ -66,9 +66,12 @@ RCP<TpetraOperator> IfpackPreconditionerCache::update(const RCP<const CrsMatrix>
     matrix_ = P;
     prec_->initialize();
     ++initializations_;
+  } else if (valuesVersion >= 0 && valuesVersion == valuesVersion_) {
+    return prec_;  // same matrix, same values: the factors stand
   }
   prec_->compute();
   ++computations_;
+  valuesVersion_ = valuesVersion;
   return prec_;
 }
 
@@ -175,7 +178,7 @@ void GatheredDirectInverse::Op::apply(const MultiVector& X, MultiVector& Y, Teuc
 GatheredDirectInverse::GatheredDirectInverse() = default;
 GatheredDirectInverse::~GatheredDirectInverse() = default;
 
-RCP<TpetraOperator> GatheredDirectInverse::update(const RCP<const CrsMatrix>& P) {
+RCP<TpetraOperator> GatheredDirectInverse::update(const RCP<const CrsMatrix>& P, long /*valuesVersion*/) {
   if (op_.is_null()) op_ = rcp(new Op());
   op_->factor(P);
   ++factorizations_;
@@ -275,7 +278,8 @@ void ImplicitModelEvaluator::evalModelImpl(const Thyra::ModelEvaluatorBase::InAr
   if (!prec_.is_null()) {
     const RCP<Thyra::PreconditionerBase<double>> W_prec_out = outArgs.get_W_prec();
     if (!W_prec_out.is_null()) {
-      RCP<TpetraOperator> M = prec_->update(matrixAt(*x));
+      const RCP<const CrsMatrix> P = matrixAt(*x);
+      RCP<TpetraOperator> M = prec_->update(P, model_->jacobianVersion());
       auto prec = Teuchos::rcp_dynamic_cast<Thyra::DefaultPreconditioner<double>>(W_prec_out, true);
       const RCP<Thyra::LinearOpBase<double>> op = Thyra::tpetraLinearOp<Scalar, LO, GO, Node>(space_, space_, M);
       prec->initializeRight(op);  // (a typed RCP would be ambiguous between the const and non-const overloads)

@@ -27,7 +27,9 @@ class PreconditionerCache {
  public:
   virtual ~PreconditionerCache() = default;
   // Brings the operator up to date with P (fill complete, maps equal to the unknown map).
-  virtual Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P) = 0;
+  // `valuesVersion` (from ResidualModel::jacobianVersion) lets an up-to-date operator skip its
+  // numeric set-up when P is the same object with the same values; -1 means "unknown".
+  virtual Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P, long valuesVersion = -1) = 0;
   // Symbolic setups (Ifpack2 initialize(), symbolic factorisation) so far.
   virtual int initializations() const = 0;
 };
@@ -40,7 +42,7 @@ class IfpackPreconditionerCache : public PreconditionerCache {
   // when Ifpack2 does not know `type` or rejects `params` (checked on a 1x1 matrix, not collective).
   IfpackPreconditionerCache(const std::string& type, const Teuchos::ParameterList& params);
 
-  Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P) override;
+  Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P, long valuesVersion = -1) override;
   int initializations() const override { return initializations_; }
 
   const std::string& type() const { return type_; }
@@ -54,6 +56,7 @@ class IfpackPreconditionerCache : public PreconditionerCache {
   Teuchos::RCP<Ifpack2Preconditioner> prec_;
   Teuchos::RCP<const CrsMatrix> matrix_;  // held so its address cannot be reused by a new matrix
   int initializations_ = 0, computations_ = 0;
+  long valuesVersion_ = -1;
 };
 
 // P^{-1} by sparse LU (Amesos2 KLU2) of P gathered onto rank 0: works around Amesos2 13.2, whose KLU2
@@ -64,7 +67,7 @@ class GatheredDirectInverse : public PreconditionerCache {
  public:
   GatheredDirectInverse();
   ~GatheredDirectInverse() override;
-  Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P) override;
+  Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P, long valuesVersion = -1) override;
   int initializations() const override { return factorizations_; }
 
  private:

@@ -6,7 +6,8 @@
 #include <algorithm>
 #include <numeric>
 #include <sstream>
-#include <unordered_map>
+#include <limits>
+#include <map>
 
 #include "core/kernels/GridToParticle.hpp"
 #include "core/kernels/InternalForce.hpp"
@@ -257,113 +258,119 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   if (PCurrent_) return P_;
   const bool gimp = std::is_same<Shape, UniformGimp>::value;
   const StructuredGrid& g = dist_.grid();
-  const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, !gimp);
-  PairMatrices Ke("pair_stiffness", pairs.count);
-  pairStiffness<Exec>(g, pairs, ps_, mat_, gimp, Ke);
-
-  auto C = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pairs.cell);
-  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Ke);
-  auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
   const auto ghostMap = dist_.ghostedNodeMap();
-  auto so = stateOwned_->getLocalViewHost(Tpetra::Access::ReadOnly);
-  auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), freeNode_);
-  const double massFactor = 4.0 / (dt_ * dt_);
-
-  // Visits every non-zero contribution (row gid, column gids and values of one pair row, or a
-  // mass diagonal) with `emit`.
-  auto forEachContribution = [&](auto&& emit) {
-    GO cols[8];
-    double vals[8];
-    for (int k = 0; k < pairs.count; ++k) {
-      GO gid[8];
-      bool freeDof[8];
-      for (int a = 0; a < 4; ++a) {
-        const int ln = gix(C(k, 0) + (a & 1), C(k, 1) + (a >> 1));
-        for (int d = 0; d < 2; ++d) {
-          gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
-          freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;
-        }
+  auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
+  // Cells of the ghost region, numbered locally (column-major like the nodes).
+  const int cellCols = gix.colEnd - gix.colBegin - 1, cellRows = g.ny;
+  auto cellDofs = [&](int ci, int cj, GO* gid, bool* freeDof) {
+    for (int a = 0; a < 4; ++a) {
+      const int ln = gix(ci + (a & 1), cj + (a >> 1));
+      for (int d = 0; d < 2; ++d) {
+        gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
+        freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;
       }
-      for (int r = 0; r < 8; ++r) {
-        if (!freeDof[r]) continue;
-        int n = 0;
-        for (int c = 0; c < 8; ++c)
-          if (freeDof[c]) { cols[n] = gid[c]; vals[n] = K(k, r, c); ++n; }
-        emit(gid[r], cols, vals, n);
-      }
-    }
-    for (size_t k = 0; k < freeGids_.size(); ++k) {
-      const double m = massFactor * so(hn(k), st::Mass);
-      emit(freeGids_[k], &freeGids_[k], &m, 1);
     }
   };
 
-  // The pattern: the cells the pairs touch and the free dofs this rank sees.
+  // The graph depends only on the free dofs a rank sees: every cell of the ghost region couples
+  // its free dofs (cells without particles just hold zeros). Rebuilt when that set changes.
   std::vector<GO> key;
-  for (int k = 0; k < pairs.count; ++k) key.push_back(g.cellId(C(k, 0), C(k, 1)));
-  std::sort(key.begin(), key.end());
-  key.erase(std::unique(key.begin(), key.end()), key.end());
-  key.push_back(-1);
   for (size_t n = 0; n < sg.extent(0); ++n)
     for (int d = 0; d < 2; ++d)
       if (sg(n, st::FreeX + d) > 0.5) key.push_back(2 * ghostMap->getGlobalElement((LO)n) + d);
   const int sameHere = (!P_.is_null() && key == patternKey_) ? 1 : 0;
   int same = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
-
-  if (same) {
-    // Refill the values on the existing graphs.
-    overlapP_->resumeFill();
-    overlapP_->setAllToScalar(0.0);
-    forEachContribution([&](GO row, const GO* cols, const double* vals, int n) {
-      overlapP_->sumIntoGlobalValues(row, Teuchos::ArrayView<const GO>(cols, n), Teuchos::ArrayView<const double>(vals, n));
-    });
+  if (!same) {
+    std::map<GO, std::vector<GO>> rows;
+    for (int ci = 0; ci < cellCols; ++ci)
+      for (int cj = 0; cj < cellRows; ++cj) {
+        GO gid[8];
+        bool freeDof[8];
+        cellDofs(gix.colBegin + ci, cj, gid, freeDof);
+        for (int r = 0; r < 8; ++r)
+          if (freeDof[r])
+            for (int c = 0; c < 8; ++c)
+              if (freeDof[c]) rows[gid[r]].push_back(gid[c]);
+      }
+    std::vector<GO> rowGids;
+    size_t maxPerRow = 1;
+    for (auto& [r, cols] : rows) {
+      std::sort(cols.begin(), cols.end());
+      cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+      rowGids.push_back(r);
+      maxPerRow = std::max(maxPerRow, cols.size());
+    }
+    const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
+    auto overlapMap = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(rowGids), 0, dist_.comm()));
+    auto overlapGraph = Teuchos::rcp(new Tpetra::CrsGraph<LO, GO, Node>(overlapMap, maxPerRow));
+    for (const auto& [r, cols] : rows) overlapGraph->insertGlobalIndices(r, Teuchos::ArrayView<const GO>(cols));
+    overlapGraph->fillComplete(unknownMap_, unknownMap_);
+    overlapP_ = Teuchos::rcp(new CrsMatrix(overlapGraph));
     overlapP_->fillComplete(unknownMap_, unknownMap_);
-    P_->resumeFill();
-    P_->setAllToScalar(0.0);
-    P_->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
-    P_->fillComplete(unknownMap_, unknownMap_);
-    PCurrent_ = true;
-    return P_;
+    pExporter_ = Teuchos::rcp(new Export(overlapMap, unknownMap_));
+    auto firstP = Teuchos::rcp(new CrsMatrix(unknownMap_, 2 * maxPerRow));
+    firstP->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
+    firstP->fillComplete(unknownMap_, unknownMap_);
+    P_ = Teuchos::rcp(new CrsMatrix(firstP->getCrsGraph()));  // static graph: values only from now on
+
+    // Offsets in the overlap matrix's values: per local cell and (r, c), and per mass diagonal.
+    auto lcl = overlapP_->getLocalMatrixDevice();
+    auto rowPtr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lcl.graph.row_map);
+    auto entries = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lcl.graph.entries);
+    const auto rowMap = overlapP_->getRowMap();
+    const auto colMap = overlapP_->getColMap();
+    auto offsetOf = [&](GO row, GO col) {
+      const LO lr = rowMap->getLocalElement(row), lc = colMap->getLocalElement(col);
+      size_t off = rowPtr(lr);
+      while (off < rowPtr(lr + 1) && entries(off) != lc) ++off;
+      return off;
+    };
+    const size_t none = std::numeric_limits<size_t>::max();
+    cellOffsets_.assign(size_t(cellCols) * cellRows * 64, none);
+    for (int ci = 0; ci < cellCols; ++ci)
+      for (int cj = 0; cj < cellRows; ++cj) {
+        GO gid[8];
+        bool freeDof[8];
+        cellDofs(gix.colBegin + ci, cj, gid, freeDof);
+        for (int r = 0; r < 8; ++r)
+          for (int c = 0; c < 8; ++c)
+            if (freeDof[r] && freeDof[c]) cellOffsets_[(size_t(ci) * cellRows + cj) * 64 + r * 8 + c] = offsetOf(gid[r], gid[c]);
+      }
+    diagOffsets_.clear();
+    for (GO gidFree : freeGids_) diagOffsets_.push_back(offsetOf(gidFree, gidFree));
+    patternKey_ = std::move(key);
   }
 
-  // New pattern: sum on the host per row, build the overlap matrix and the owned one.
-  std::unordered_map<GO, std::vector<std::pair<GO, double>>> rows;
-  forEachContribution([&](GO r, const GO* cols, const double* vals, int n) {
-    auto& row = rows[r];
-    for (int j = 0; j < n; ++j) {
-      bool found = false;
-      for (auto& e : row)
-        if (e.first == cols[j]) { e.second += vals[j]; found = true; break; }
-      if (!found) row.emplace_back(cols[j], vals[j]);
+  // Values: pair stiffness into the cell offsets, the lumped mass into the diagonal, then one
+  // Export sums the ranks' overlapping rows.
+  const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, !gimp);
+  PairMatrices Ke("pair_stiffness", pairs.count);
+  pairStiffness<Exec>(g, pairs, ps_, mat_, gimp, Ke);
+  auto C = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pairs.cell);
+  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Ke);
+  auto so = stateOwned_->getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), freeNode_);
+  const size_t none = std::numeric_limits<size_t>::max();
+  overlapP_->resumeFill();
+  {
+    auto values = overlapP_->getLocalMatrixDevice().values;
+    Kokkos::deep_copy(values, 0.0);
+    for (int k = 0; k < pairs.count; ++k) {
+      const size_t* off = &cellOffsets_[(size_t(C(k, 0) - gix.colBegin) * cellRows + C(k, 1)) * 64];
+      for (int rc = 0; rc < 64; ++rc)
+        if (off[rc] != none) values(off[rc]) += K(k, rc / 8, rc % 8);
     }
-  });
-  std::vector<GO> rowGids;
-  rowGids.reserve(rows.size());
-  size_t maxPerRow = 1;
-  for (const auto& [r, entries] : rows) { rowGids.push_back(r); maxPerRow = std::max(maxPerRow, entries.size()); }
-  std::sort(rowGids.begin(), rowGids.end());
-  const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
-  auto overlapMap = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(rowGids), 0, dist_.comm()));
-  overlapP_ = Teuchos::rcp(new CrsMatrix(overlapMap, maxPerRow));
-  std::vector<GO> cols;
-  std::vector<double> vals;
-  for (GO r : rowGids) {
-    cols.clear(); vals.clear();
-    for (const auto& [c, v] : rows[r]) { cols.push_back(c); vals.push_back(v); }
-    overlapP_->insertGlobalValues(r, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
+    const double massFactor = 4.0 / (dt_ * dt_);
+    for (size_t k = 0; k < freeGids_.size(); ++k) values(diagOffsets_[k]) += massFactor * so(hn(k), st::Mass);
   }
   overlapP_->fillComplete(unknownMap_, unknownMap_);
-  auto firstP = Teuchos::rcp(new CrsMatrix(unknownMap_, 2 * maxPerRow));
-  pExporter_ = Teuchos::rcp(new Export(overlapMap, unknownMap_));
-  firstP->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
-  firstP->fillComplete(unknownMap_, unknownMap_);
-  // Keep P on the static graph found now: later refills export into it with sums only.
-  P_ = Teuchos::rcp(new CrsMatrix(firstP->getCrsGraph()));
+  P_->resumeFill();
+  P_->setAllToScalar(0.0);
   P_->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
   P_->fillComplete(unknownMap_, unknownMap_);
-  patternKey_ = std::move(key);
+  ++jacobianVersion_;
   PCurrent_ = true;
   return P_;
 }

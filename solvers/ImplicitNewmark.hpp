@@ -59,6 +59,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   Teuchos::RCP<const Map> unknownMap() const override { return unknownMap_; }
   void residual(const Vector& u, Vector& R) override;
   Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) override;
+  long jacobianVersion() const override { return jacobianVersion_; }
 
   // Statistics of the run so far.
   const std::vector<int>& newtonIterationsPerStep() const { return newtonPerStep_; }
@@ -98,6 +99,10 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   Teuchos::RCP<const Export> pExporter_;
   std::vector<GO> patternKey_;
   bool PCurrent_ = false;
+  long jacobianVersion_ = 0;  // bumped at every (re)assembly
+  // Offsets into overlapP_'s local values: per ghost-region cell and local dof pair (r, c), and
+  // per owned free dof for the mass diagonal.
+  std::vector<size_t> cellOffsets_, diagOffsets_;
 
   std::vector<int> newtonPerStep_, krylovPerNewton_;
   int halvings_ = 0;

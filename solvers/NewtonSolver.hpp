@@ -45,6 +45,9 @@ class ResidualModel {
   // Returning the same object (refilled, with a static graph) lets the preconditioner skip its
   // symbolic setup (Ifpack2 initialize()); a new object triggers a full rebuild.
   virtual Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) = 0;
+  // A number that changes whenever the values of the matrix last returned by jacobianMatrix
+  // change (so that preconditioner factors can be kept); -1: unknown, always refactor.
+  virtual long jacobianVersion() const { return -1; }
 };
 
 struct NewtonResult {
