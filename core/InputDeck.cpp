@@ -192,6 +192,9 @@ RCP<const ParameterList> validParameters() {
            "dt must not exceed this factor times (smallest cell size) / (P-wave speed)");
     ParameterList& im = p.sublist("Implicit", false, "implicit integrator options");
     im.set("Maximum Step Halvings", 4, "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
+    im.set("Consistent Projection Iterations", 0,
+           "Jacobi iterations towards the consistent-mass projection of particle velocity and acceleration to "
+           "the grid (0: lumped projection; see Integrator/Explicit)");
     im.set("Consistent Initial Acceleration", true,
            "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   }

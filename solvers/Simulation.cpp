@@ -244,6 +244,9 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     iopt.maxStepHalvings = im.get<int>("Maximum Step Halvings");
     if (iopt.maxStepHalvings < 0) throw DeckError("'Integrator/Implicit/Maximum Step Halvings' must not be negative");
     iopt.consistentInitialAcceleration = im.get<bool>("Consistent Initial Acceleration");
+    iopt.projectionIterations = im.get<int>("Consistent Projection Iterations");
+    if (iopt.projectionIterations < 0)
+      throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
     iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
     try {
       if (gimp) integrator_ = std::make_unique<ImplicitNewmark<UniformGimp>>(particles_, *dist_, material_, constraints_, loads_, iopt);
