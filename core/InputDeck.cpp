@@ -195,6 +195,9 @@ RCP<const ParameterList> validParameters() {
     im.set("Consistent Projection Iterations", 0,
            "Jacobi iterations towards the consistent-mass projection of particle velocity and acceleration to "
            "the grid (0: lumped projection; see Integrator/Explicit)");
+    im.set("Preconditioner Refresh Interval", 1,
+           "steps between numeric refactorisations of the Ifpack2 preconditioner (1: every step); its factors "
+           "of a slightly older P remain a good preconditioner while the particles move little");
     im.set("Consistent Initial Acceleration", true,
            "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   }

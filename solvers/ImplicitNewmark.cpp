@@ -371,6 +371,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   P_->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
   P_->fillComplete(unknownMap_, unknownMap_);
   ++jacobianVersion_;
+  if (!same || jacobianVersion_ % std::max(1, opt_.preconditionerRefreshInterval) == 0) ++preconditionerVersion_;
   PCurrent_ = true;
   return P_;
 }

@@ -31,6 +31,9 @@ struct ImplicitOptions {
   // Jacobi iterations towards the consistent-mass projection of particle velocity and
   // acceleration to the grid (0: lumped p / m). See ExplicitStepper.
   int projectionIterations = 0;
+  // Steps between numeric refactorisations of the preconditioner (its factors of an older P
+  // stay a good preconditioner while particles move little); 1 = every step.
+  int preconditionerRefreshInterval = 1;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 
@@ -59,7 +62,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   Teuchos::RCP<const Map> unknownMap() const override { return unknownMap_; }
   void residual(const Vector& u, Vector& R) override;
   Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) override;
-  long jacobianVersion() const override { return jacobianVersion_; }
+  long jacobianVersion() const override { return preconditionerVersion_; }
 
   // Statistics of the run so far.
   const std::vector<int>& newtonIterationsPerStep() const { return newtonPerStep_; }
@@ -99,7 +102,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   Teuchos::RCP<const Export> pExporter_;
   std::vector<GO> patternKey_;
   bool PCurrent_ = false;
-  long jacobianVersion_ = 0;  // bumped at every (re)assembly
+  long jacobianVersion_ = 0;       // bumped at every (re)assembly
+  long preconditionerVersion_ = 0; // bumped every preconditionerRefreshInterval assemblies
   // Offsets into overlapP_'s local values: per ghost-region cell and local dof pair (r, c), and
   // per owned free dof for the mass diagonal.
   std::vector<size_t> cellOffsets_, diagOffsets_;

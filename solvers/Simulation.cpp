@@ -245,6 +245,9 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     if (iopt.maxStepHalvings < 0) throw DeckError("'Integrator/Implicit/Maximum Step Halvings' must not be negative");
     iopt.consistentInitialAcceleration = im.get<bool>("Consistent Initial Acceleration");
     iopt.projectionIterations = im.get<int>("Consistent Projection Iterations");
+    iopt.preconditionerRefreshInterval = im.get<int>("Preconditioner Refresh Interval");
+    if (iopt.preconditionerRefreshInterval < 1)
+      throw DeckError("'Integrator/Implicit/Preconditioner Refresh Interval' must be at least 1");
     if (iopt.projectionIterations < 0)
       throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
     iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
