@@ -419,7 +419,7 @@ RunResult Simulation::run(std::ostream& log) {
     if (out.get<bool>("Plot") && hasExact()) {
       const char* env = std::getenv("IMPM_PLOT_SCRIPT");
       const std::string script = env ? env : IMPM_PLOT_SCRIPT;
-      const std::string title = deck_.sublist("Problem").get<std::string>("Name") + " (" + material_.planeName() + ")";
+      const std::string title = deck_.sublist("Problem").get<std::string>("Name");
       const std::string cmd = "/usr/bin/python3 '" + script + "' '" + outputDir_ + "' --title '" + title + "'";
       if (std::system(cmd.c_str()) != 0) log << "  warning: the plot could not be written (" << cmd << ")\n";
       else log << "  plot: " << outputDir_ << "/plot.png\n";

@@ -12,6 +12,25 @@
 namespace impm {
 
 // Adds m_p S_ip, m_p v_p S_ip (and m_p a_p S_ip into `accColumn` when >= 0) to `grid`.
+// One particle's mass and momentum (and m a when accCol >= 0), for a stencil already built.
+template <class Shape, class Access>
+KOKKOS_INLINE_FUNCTION void scatterMassMomentum(const ParticleStencil<Shape>& st, const LocalNodeIndexer& ix,
+                                                double mp, double vx, double vy, double ax, double ay, Access& out,
+                                                int massCol, int momCol, int accCol) {
+  for (int aI = 0; aI < st.countX(); ++aI)
+    for (int bJ = 0; bJ < st.countY(); ++bJ) {
+      const int n = ix(st.i0 + aI, st.j0 + bJ);
+      const double w = mp * st.weight(aI, bJ);
+      out(n, massCol) += w;
+      out(n, momCol) += w * vx;
+      out(n, momCol + 1) += w * vy;
+      if (accCol >= 0) {
+        out(n, accCol) += w * ax;
+        out(n, accCol + 1) += w * ay;
+      }
+    }
+}
+
 template <class ExecSpace, class Shape, class GridView>
 void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                 const GridView& grid, int massCol, int momCol, int accCol = -1) {
@@ -21,20 +40,8 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
       "p2g", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         auto out = sv.access();
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-        const double mp = m(p), vx = v(p, 0), vy = v(p, 1);
         const double ax = accCol >= 0 ? a(p, 0) : 0.0, ay = accCol >= 0 ? a(p, 1) : 0.0;
-        for (int aI = 0; aI < st.countX(); ++aI)
-          for (int bJ = 0; bJ < st.countY(); ++bJ) {
-            const int n = ix(st.i0 + aI, st.j0 + bJ);
-            const double w = mp * st.weight(aI, bJ);
-            out(n, massCol) += w;
-            out(n, momCol) += w * vx;
-            out(n, momCol + 1) += w * vy;
-            if (accCol >= 0) {
-              out(n, accCol) += w * ax;
-              out(n, accCol + 1) += w * ay;
-            }
-          }
+        scatterMassMomentum(st, ix, m(p), v(p, 0), v(p, 1), ax, ay, out, massCol, momCol, accCol);
       });
   GridView dest = grid;  // contribute() takes a non-const view
   Kokkos::Experimental::contribute(dest, sv);
@@ -51,15 +58,7 @@ void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeInde
       "p2g", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         auto out = sv.access();
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-        const double mp = m(p), vx = v(p, 0), vy = v(p, 1);
-        for (int aI = 0; aI < st.countX(); ++aI)
-          for (int bJ = 0; bJ < st.countY(); ++bJ) {
-            const int n = ix(st.i0 + aI, st.j0 + bJ);
-            const double w = mp * st.weight(aI, bJ);
-            out(n, massCol) += w;
-            out(n, momCol) += w * vx;
-            out(n, momCol + 1) += w * vy;
-          }
+        scatterMassMomentum(st, ix, m(p), v(p, 0), v(p, 1), 0.0, 0.0, out, massCol, momCol, -1);
         scatterInternalForce(st, ix, vol(p), s(p, 0), s(p, 1), s(p, 2), out, forceCol);
       });
   GridView dest = grid;
