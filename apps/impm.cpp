@@ -31,6 +31,20 @@ void usage(std::ostream& os) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // --help and --print-defaults need neither MPI nor Kokkos (whose own --help would answer).
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      usage(std::cout);
+      impm::printHelp(std::cout, {{"Implicit Solver", impm::NewtonSolver::validParameters()}});
+      return 0;
+    }
+    if (a == "--print-defaults") {
+      std::cout.setf(std::ios::showpoint);  // keeps doubles distinguishable from ints in the YAML
+      impm::printDefaults(std::cout, {{"Implicit Solver", impm::NewtonSolver::validParameters()}});
+      return 0;
+    }
+  }
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
@@ -38,13 +52,7 @@ int main(int argc, char** argv) {
   std::string deckPath, outputDir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      if (root) { usage(std::cout); impm::printHelp(std::cout, {{"Implicit Solver", impm::NewtonSolver::validParameters()}}); }
-      return 0;
-    } else if (a == "--print-defaults") {
-      if (root) impm::printDefaults(std::cout, {{"Implicit Solver", impm::NewtonSolver::validParameters()}});
-      return 0;
-    } else if (a == "--output") {
+    if (a == "--output") {
       if (i + 1 >= argc) { if (root) std::cerr << "impm: error: --output needs a directory\n"; return 2; }
       outputDir = argv[++i];
     } else if (a.rfind("--", 0) == 0) {

@@ -126,6 +126,8 @@ TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
       stepper->step(n * dt, dt);
       const Energies e = particleEnergies<ExecutionSpace>(ps, mat, *comm);
       worst = std::max(worst, std::abs(e.total() - e0.total()) / e0.total());
+      if (n == 0 || n == 1 || n == 9 || n == 49 || n == 99)
+        out << method << " step " << n + 1 << ": (E - E0) / E0 = " << (e.total() - e0.total()) / e0.total() << "\n";
       maxStrain = std::max(maxStrain, e.strain);
     }
     out << method << " projection iterations " << projectionIterations << ": max |E(t) - E(0)| / E(0) over 100 steps = " << worst

@@ -4,6 +4,8 @@
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
 
+#include <Teuchos_XMLParameterListCoreHelpers.hpp>
+
 #include <filesystem>
 
 #include "core/InputDeck.hpp"
@@ -50,6 +52,18 @@ TEUCHOS_UNIT_TEST(InputDeck, GoodDeckPasses) {
   TEST_EQUALITY_CONST(problemWith(goodDeck(dir)), "");
   // Set-up alone writes nothing.
   TEST_ASSERT(!std::filesystem::exists(dir));
+}
+
+// The same deck as YAML and as XML reads to the same validated list, and runs set-up.
+TEUCHOS_UNIT_TEST(InputDeck, YamlAndXmlAgree) {
+  auto yaml = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/bar_explicit_gimp_plane_strain.yaml");
+  Teuchos::writeParameterListToXmlFile(*yaml, "deck_test_bar.xml");
+  auto xml = impm::readDeck("deck_test_bar.xml");
+  impm::validateDeck(*yaml);
+  impm::validateDeck(*xml);
+  TEST_ASSERT(Teuchos::haveSameValues(*yaml, *xml));
+  TEST_EQUALITY_CONST(xml->sublist("Method").get<std::string>("Shape Function"), "GIMP");
+  TEST_EQUALITY_CONST(problemWith(*xml), "");
 }
 
 TEUCHOS_UNIT_TEST(InputDeck, DefaultsAreFilledIn) {
