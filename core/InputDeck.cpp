@@ -198,6 +198,9 @@ RCP<const ParameterList> validParameters() {
     im.set("Preconditioner Refresh Interval", 1,
            "steps between numeric refactorisations of the Ifpack2 preconditioner (1: every step); its factors "
            "of a slightly older P remain a good preconditioner while the particles move little");
+    choice(im, "Mass Matrix", "Lumped", {"Lumped", "Consistent"},
+           "Lumped: Guilkey & Weiss; Consistent: R uses M_C u and particles take their own Newmark update, "
+           "which conserves the particles' energy (the preconditioner keeps the lumped mass)");
     im.set("Consistent Initial Acceleration", true,
            "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   }

@@ -37,8 +37,9 @@ ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistri
   stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), st::Count));
   dispOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), dp::Count));
   dispGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), dp::Count));
-  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2));
-  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
+  // Columns 0-1: internal force; 2-3: M_C u (consistent mass).
+  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 4));
+  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 4));
   trial_ = decltype(trial_)("trial_stress", ps_.count);
   double local = 0.0, global = 0.0;
   auto mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps_.mass);
@@ -117,6 +118,27 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
     bc_.template apply<Exec>(s, st::FreeX);
   }
   stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
+  if (initialAcceleration && opt_.consistentMass) {
+    // The particles start from the grid's consistent acceleration (their own Newmark update
+    // needs a_p(0)).
+    auto sgv = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const StructuredGrid gg = g;
+    const LocalNodeIndexer ix = dist_.ghostedIndexer();
+    auto x = ps_.x; auto hs = ps_.halfSize; auto a = ps_.a;
+    Kokkos::parallel_for(
+        "initial_acceleration_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
+          const ParticleStencil<Shape> stn(gg, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+          double ax = 0, ay = 0;
+          for (int i = 0; i < stn.countX(); ++i)
+            for (int j = 0; j < stn.countY(); ++j) {
+              const int n = ix(stn.i0 + i, stn.j0 + j);
+              ax += stn.weight(i, j) * sgv(n, st::AccX);
+              ay += stn.weight(i, j) * sgv(n, st::AccY);
+            }
+          a(p, 0) = ax;
+          a(p, 1) = ay;
+        });
+  }
 
   // Free dofs and the unknown map (gid = 2 node + component).
   PCurrent_ = false;
@@ -233,10 +255,16 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
   {
     auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, trial_, f, 0);
+    if (opt_.consistentMass) {
+      // M_C u = sum_p m_p S_ip u_p with u_p = sum_j S_jp u_j (consistent-mass residual only).
+      auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+      particleToGridMassProduct<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX, f, 2);
+    }
   }
   forceOwned_->putScalar(0.0);
   forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
   auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  const bool consistent = opt_.consistentMass;
   auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto uv = u.getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto r = R.getLocalViewDevice(Tpetra::Access::OverwriteAll);
@@ -247,7 +275,9 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
         const int n = node(k), d = comp(k);
         const double m = s(n, st::Mass);
         // f holds the internal force acting on the node (-int B^T sigma).
-        r(k, 0) = m * (c1 * uv(k, 0) - c2 * s(n, st::VelX + d) - s(n, st::AccX + d)) - f(n, d) - s(n, st::FextX + d);
+        // m v and m a are the particle-to-grid momentum and m a sums (lumped normalisation undone).
+        const double inertia = consistent ? c1 * f(n, 2 + d) : m * c1 * uv(k, 0);
+        r(k, 0) = inertia - m * (c2 * s(n, st::VelX + d) + s(n, st::AccX + d)) - f(n, d) - s(n, st::FextX + d);
       });
 }
 
@@ -402,6 +432,8 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
     const LocalNodeIndexer ix = dist_.ghostedIndexer();
     auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a;
     const double dt = dt_;
+    const bool consistent = opt_.consistentMass;
+    const double c1 = 4.0 / (dt * dt), c2 = 4.0 / dt;
     Kokkos::parallel_for(
         "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
           const ParticleStencil<Shape> stn(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
@@ -413,6 +445,10 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
               ux += w * d(n, dp::UX); uy += w * d(n, dp::UY);
               ax += w * d(n, dp::AnewX); ay += w * d(n, dp::AnewY);
             }
+          if (consistent) {  // the particle's own Newmark update
+            ax = c1 * ux - c2 * v(p, 0) - a(p, 0);
+            ay = c1 * uy - c2 * v(p, 1) - a(p, 1);
+          }
           x(p, 0) += ux; x(p, 1) += uy;
           v(p, 0) += 0.5 * dt * (a(p, 0) + ax);
           v(p, 1) += 0.5 * dt * (a(p, 1) + ay);

@@ -34,6 +34,11 @@ struct ImplicitOptions {
   // Steps between numeric refactorisations of the preconditioner (its factors of an older P
   // stay a good preconditioner while particles move little); 1 = every step.
   int preconditionerRefreshInterval = 1;
+  // Consistent mass: R uses M_C u = S^T M_p S u (one particle round trip per residual) and the
+  // particles take the Newmark update themselves (a_p,new = 4/dt^2 u_p - 4/dt v_p - a_p), so
+  // that particle kinetic plus strain energy is what the trapezoidal rule conserves. The
+  // preconditioner keeps the lumped mass. Default: lumped (Guilkey & Weiss).
+  bool consistentMass = false;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 

@@ -246,6 +246,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     iopt.consistentInitialAcceleration = im.get<bool>("Consistent Initial Acceleration");
     iopt.projectionIterations = im.get<int>("Consistent Projection Iterations");
     iopt.preconditionerRefreshInterval = im.get<int>("Preconditioner Refresh Interval");
+    iopt.consistentMass = im.get<std::string>("Mass Matrix") == "Consistent";
     if (iopt.preconditionerRefreshInterval < 1)
       throw DeckError("'Integrator/Implicit/Preconditioner Refresh Interval' must be at least 1");
     if (iopt.projectionIterations < 0)

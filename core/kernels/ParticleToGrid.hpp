@@ -21,7 +21,7 @@ KOKKOS_INLINE_FUNCTION void scatterMassMomentum(const ParticleStencil<Shape>& st
     for (int bJ = 0; bJ < st.countY(); ++bJ) {
       const int n = ix(st.i0 + aI, st.j0 + bJ);
       const double w = mp * st.weight(aI, bJ);
-      out(n, massCol) += w;
+      if (massCol >= 0) out(n, massCol) += w;
       out(n, momCol) += w * vx;
       out(n, momCol + 1) += w * vy;
       if (accCol >= 0) {
@@ -99,6 +99,30 @@ void particleToGridProjectionResidual(const StructuredGrid& g, const LocalNodeIn
             out(n, outCol) += w * rx;
             out(n, outCol + 1) += w * ry;
           }
+      });
+  GridView dest = grid;
+  Kokkos::Experimental::contribute(dest, sv);
+}
+
+// Consistent-mass product M_C w = sum_p m_p S_ip (sum_j S_jp w_j) for a two-component grid
+// field in columns fieldCol, fieldCol+1, scattered into outCol, outCol+1.
+template <class ExecSpace, class Shape, class FieldView, class GridView>
+void particleToGridMassProduct(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                               const FieldView& field, int fieldCol, const GridView& grid, int outCol) {
+  auto sv = Kokkos::Experimental::create_scatter_view(grid);
+  auto x = ps.x; auto hs = ps.halfSize; auto m = ps.mass;
+  Kokkos::parallel_for(
+      "p2g_mass_product", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        auto out = sv.access();
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        double wx = 0, wy = 0;
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            wx += st.weight(aI, bJ) * field(n, fieldCol);
+            wy += st.weight(aI, bJ) * field(n, fieldCol + 1);
+          }
+        scatterMassMomentum(st, ix, m(p), wx, wy, 0.0, 0.0, out, -1, outCol, -1);
       });
   GridView dest = grid;
   Kokkos::Experimental::contribute(dest, sv);
