@@ -4,6 +4,7 @@
 #include <Tpetra_CrsMatrix.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <numeric>
 #include <sstream>
 #include <limits>
@@ -459,11 +460,20 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
 
 template <class Shape>
 bool ImplicitNewmark<Shape>::trySteps(double t, double dt, int depth) {
+  using clock = std::chrono::steady_clock;
+  auto t0 = clock::now();
   setUpStep(t, dt);
   Vector u(unknownMap_, true);
+  auto t1 = clock::now();
   const NewtonResult result = solver_->solve(*this, u);
+  auto t2 = clock::now();
+  secondsSetUp_ += std::chrono::duration<double>(t1 - t0).count();
+  secondsSolve_ += std::chrono::duration<double>(t2 - t1).count();
+  secondsSolverSetUp_ += result.setupSeconds;
+  residualEvaluations_ += result.residualEvaluations;
   if (result.converged) {
     finishStep(u);
+    secondsFinish_ += std::chrono::duration<double>(clock::now() - t2).count();
     newtonPerStep_.push_back(result.newtonIterations);
     krylovPerNewton_.insert(krylovPerNewton_.end(), result.krylovIterations.begin(), result.krylovIterations.end());
     return true;
@@ -493,6 +503,11 @@ void ImplicitNewmark<Shape>::addStatistics(Teuchos::ParameterList& summary) cons
   s.set("Krylov Iterations Per Newton Mean", k.empty() ? 0.0 : std::accumulate(k.begin(), k.end(), 0.0) / k.size());
   s.set("Krylov Iterations Per Newton Max", k.empty() ? 0 : *std::max_element(k.begin(), k.end()));
   s.set("Step Halvings", halvings_);
+  s.set("Residual Evaluations", (int)residualEvaluations_);
+  s.set("Seconds Step Set-Up", secondsSetUp_);
+  s.set("Seconds Newton Solve", secondsSolve_);
+  s.set("Seconds NOX Set-Up", secondsSolverSetUp_);
+  s.set("Seconds Particle Update", secondsFinish_);
   s.set("Configuration", describe(solver_->parameters()));
 }
 

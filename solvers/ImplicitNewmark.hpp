@@ -115,6 +115,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   std::vector<int> newtonPerStep_, krylovPerNewton_;
   int halvings_ = 0;
+  long residualEvaluations_ = 0;
+  double secondsSetUp_ = 0, secondsSolve_ = 0, secondsSolverSetUp_ = 0, secondsFinish_ = 0;
 };
 
 }  // namespace impm
