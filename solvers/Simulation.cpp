@@ -265,6 +265,35 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   }
 }
 
+// A rank maps its particles onto its ghosted node columns; a particle that wandered beyond
+// them (or off the grid) would be mapped to the wrong nodes. Particle migration between ranks
+// is not implemented: stop with a clear message instead.
+void Simulation::checkParticlesInReach(double t) const {
+  const StructuredGrid g = grid_;
+  const LocalNodeIndexer ix = dist_->ghostedIndexer();
+  // Stencils reach one column beyond the particle's cell (GIMP: its domain's cells plus one).
+  // At the grid's own edges stencils are clamped, so a body that fills the grid may stretch a
+  // little past them (the seed's bar does); half a cell is allowed there.
+  const double xLo = ix.colBegin > 0 ? g.nodeX(ix.colBegin) + g.hx : g.x0 - 0.5 * g.hx;
+  const double xHi = ix.colEnd - 1 < g.nx ? g.nodeX(ix.colEnd - 1) - g.hx : g.xMax() + 0.5 * g.hx;
+  const double yLo = g.y0 - 0.5 * g.hy, yHi = g.yMax() + 0.5 * g.hy;
+  auto x = particles_.x; auto hs = particles_.halfSize;
+  int outside = 0;
+  Kokkos::parallel_reduce(
+      "check_particles_in_reach", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
+      KOKKOS_LAMBDA(int p, int& count) {
+        if (!(x(p, 0) - hs(p, 0) >= xLo && x(p, 0) + hs(p, 0) <= xHi && x(p, 1) - hs(p, 1) >= yLo &&
+              x(p, 1) + hs(p, 1) <= yHi))
+          ++count;
+      },
+      outside);
+  int total = 0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, outside, Teuchos::outArg(total));
+  if (total > 0)
+    throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the columns their MPI rank maps at t = " +
+                             fmt(t) + " s (particle migration between ranks is not implemented: use a larger grid or fewer ranks)");
+}
+
 double Simulation::monitorValue(const Monitor& mon) const {
   if (mon.owner != comm_->getRank()) return 0.0;
   const int p = mon.localIndex;
@@ -380,6 +409,7 @@ RunResult Simulation::run(std::ostream& log) {
                                " s) is in " + outputDir_);
     }
     const double tNew = (n + 1) * dt_;
+    checkParticlesInReach(tNew);
     if ((n + 1) % historyInterval == 0 || n + 1 == steps_) record(tNew);
     if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);
     if (progress && rank == 0) {

@@ -60,6 +60,7 @@ class Simulation {
  private:
   bool hasExact() const { return exactType_ != "None"; }
   double monitorValue(const Monitor& m) const;
+  void checkParticlesInReach(double t) const;
   double exactValue(const Monitor& m, double t) const;
   void writeSummary(const RunResult& r) const;
 
