@@ -287,6 +287,15 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   // P = 4/dt^2 M + K, K over particle-cell pairs (exact over overlaps for GIMP). Small strain:
   // P does not depend on u, so it is assembled once per step.
   if (PCurrent_) return P_;
+  // Jacobian-free: P only builds the preconditioner, so it is reassembled (and refactored) every
+  // Preconditioner Refresh Interval steps; the residual carries the current physics.
+  const bool jacobianFree = solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free";
+  const int interval = std::max(1, opt_.preconditionerRefreshInterval);
+  if (jacobianFree && !P_.is_null() && ++stepsSinceAssembly_ < interval) {
+    PCurrent_ = true;
+    return P_;
+  }
+  stepsSinceAssembly_ = 0;
   const bool gimp = std::is_same<Shape, UniformGimp>::value;
   const StructuredGrid& g = dist_.grid();
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
@@ -402,7 +411,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   P_->doExport(*overlapP_, *pExporter_, Tpetra::ADD);
   P_->fillComplete(unknownMap_, unknownMap_);
   ++jacobianVersion_;
-  if (!same || jacobianVersion_ % std::max(1, opt_.preconditionerRefreshInterval) == 0) ++preconditionerVersion_;
+  if (jacobianFree || !same || jacobianVersion_ % interval == 0) ++preconditionerVersion_;
   PCurrent_ = true;
   return P_;
 }

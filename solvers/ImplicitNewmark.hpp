@@ -108,7 +108,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   std::vector<GO> patternKey_;
   bool PCurrent_ = false;
   long jacobianVersion_ = 0;       // bumped at every (re)assembly
-  long preconditionerVersion_ = 0; // bumped every preconditionerRefreshInterval assemblies
+  long preconditionerVersion_ = 0; // bumped when the preconditioner must be refactored
+  int stepsSinceAssembly_ = 0;
   // Offsets into overlapP_'s local values: per ghost-region cell and local dof pair (r, c), and
   // per owned free dof for the mass diagonal.
   std::vector<size_t> cellOffsets_, diagOffsets_;
