@@ -251,11 +251,36 @@ void ImplicitNewmark<Shape>::trialStress(double scale) {
 template <class Shape>
 void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
   scatterUnknowns(u);
-  trialStress(1.0);
   forceGhosted_->putScalar(0.0);
   {
     auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, trial_, f, 0);
+    // One pass per particle: grad u from the grid, the trial stress sigma_p + D sym(grad u), and
+    // its internal force through the shared scatterInternalForce.
+    {
+      auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+      auto sv = Kokkos::Experimental::create_scatter_view(f);
+      const StructuredGrid g = dist_.grid();
+      const LocalNodeIndexer ix = dist_.ghostedIndexer();
+      auto x = ps_.x; auto hs = ps_.halfSize; auto vol = ps_.volume; auto sig = ps_.stress;
+      const double c11 = mat_.c11(), c12 = mat_.c12(), c33 = mat_.c33();
+      Kokkos::parallel_for(
+          "implicit_internal_force", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
+            auto out = sv.access();
+            const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+            double l00 = 0, l01 = 0, l10 = 0, l11 = 0;
+            for (int a = 0; a < st.countX(); ++a)
+              for (int b = 0; b < st.countY(); ++b) {
+                const int n = ix(st.i0 + a, st.j0 + b);
+                const double dx = st.gradX(a, b), dy = st.gradY(a, b);
+                l00 += d(n, dp::UX) * dx; l01 += d(n, dp::UX) * dy;
+                l10 += d(n, dp::UY) * dx; l11 += d(n, dp::UY) * dy;
+              }
+            const double gxy = l01 + l10;
+            scatterInternalForce(st, ix, vol(p), sig(p, 0) + c11 * l00 + c12 * l11, sig(p, 1) + c12 * l00 + c11 * l11,
+                                 sig(p, 2) + c33 * gxy, out, 0);
+          });
+      Kokkos::Experimental::contribute(f, sv);
+    }
     if (opt_.consistentMass) {
       // M_C u = sum_p m_p S_ip u_p with u_p = sum_j S_jp u_j (consistent-mass residual only).
       auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
