@@ -41,7 +41,6 @@ ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistri
   // Columns 0-1: internal force; 2-3: M_C u (consistent mass).
   forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 4));
   forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 4));
-  trial_ = decltype(trial_)("trial_stress", ps_.count);
   double local = 0.0, global = 0.0;
   auto mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps_.mass);
   for (int p = 0; p < ps_.count; ++p) local = std::max(local, mh(p));
@@ -228,24 +227,6 @@ void ImplicitNewmark<Shape>::scatterUnknowns(const Vector& u) {
         KOKKOS_LAMBDA(int k) { d(node(k), dp::UX + comp(k)) = uv(k, 0); });
   }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
-}
-
-template <class Shape>
-void ImplicitNewmark<Shape>::trialStress(double scale) {
-  {
-    auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX);
-  }
-  auto L = ps_.gradient; auto s = ps_.stress; auto out = trial_;
-  const double c11 = mat_.c11(), c12 = mat_.c12(), c33 = mat_.c33(), czz = mat_.czz();
-  Kokkos::parallel_for(
-      "trial_stress", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
-        const double exx = scale * L(p, 0, 0), eyy = scale * L(p, 1, 1), gxy = scale * (L(p, 0, 1) + L(p, 1, 0));
-        out(p, 0) = s(p, 0) + c11 * exx + c12 * eyy;
-        out(p, 1) = s(p, 1) + c12 * exx + c11 * eyy;
-        out(p, 2) = s(p, 2) + c33 * gxy;
-        out(p, 3) = s(p, 3) + czz * (exx + eyy);
-      });
 }
 
 template <class Shape>

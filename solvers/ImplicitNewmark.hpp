@@ -79,7 +79,6 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   bool trySteps(double t, double dt, int depth);
   void finishStep(const Vector& u);      // grid and particle update with the converged u
   void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
-  void trialStress(double scale);        // trial stress from the ghosted grid displacement
   void correctProjection();              // consistent-mass correction of v and a on the grid
 
   ParticleSet& ps_;
@@ -94,7 +93,6 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   // Owned and ghosted node multivectors: grid state (mass, v, a, F_ext), displacement, force.
   Teuchos::RCP<MultiVector> stateOwned_, stateGhosted_, dispOwned_, dispGhosted_, forceOwned_, forceGhosted_;
-  Kokkos::View<double* [4], Kokkos::LayoutRight, DeviceType> trial_;  // trial stresses
   // Free dofs of this step: owned local node and component, and the unknown map.
   Kokkos::View<int*, DeviceType> freeNode_, freeComp_;
   Teuchos::RCP<const Map> unknownMap_;
