@@ -1,6 +1,9 @@
 // Material points as Kokkos Views (structure of arrays), on the node's memory space.
 #pragma once
 
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_CommHelpers.hpp>
+
 #include "core/Types.hpp"
 
 namespace impm {
@@ -41,5 +44,16 @@ struct ParticleSet {
     return sizeof(double) * (2 * 5 + 3 + 4 + 4 + 4);
   }
 };
+
+// The heaviest particle's mass over all ranks (the reference for void grid nodes).
+inline double heaviestParticleMass(const ParticleSet& ps, const Teuchos::Comm<int>& comm) {
+  double local = 0.0, global = 0.0;
+  auto m = ps.mass;
+  Kokkos::parallel_reduce(
+      "heaviest_particle", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count),
+      KOKKOS_LAMBDA(int p, double& mx) { mx = m(p) > mx ? m(p) : mx; }, Kokkos::Max<double>(local));
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
+  return global;
+}
 
 }  // namespace impm

@@ -13,12 +13,7 @@ ExplicitStepper<Shape>::ExplicitStepper(ParticleSet& particles, const GridDistri
   scratchGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
   residualGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
   // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
-  double local = 0.0;
-  auto mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps_.mass);
-  for (int p = 0; p < ps_.count; ++p) local = std::max(local, mh(p));
-  double global = 0.0;
-  Teuchos::reduceAll(*dist.comm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
-  massCutoff_ = opt_.massTolerance * global;
+  massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
 }
 
 template <class Shape>
@@ -175,7 +170,7 @@ void ExplicitStepper<Shape>::step(double t, double dt) {
     fields_.accumGhosted->doImport(*fields_.accumOwned, *dist_.importer(), Tpetra::INSERT);
     stressFromGhostedVelocity(dt, true);
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    moveParticles<Exec, Shape>(g, gix, ps_, kinv, kin::VelX, dt);
+    interpolateToParticles<Exec, Shape>(g, gix, ps_, kinv, kin::VelX, ps_.x, dt, true);
   }
 }
 

@@ -41,11 +41,7 @@ ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistri
   // Columns 0-1: internal force; 2-3: M_C u (consistent mass).
   forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 4));
   forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 4));
-  double local = 0.0, global = 0.0;
-  auto mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps_.mass);
-  for (int p = 0; p < ps_.count; ++p) local = std::max(local, mh(p));
-  Teuchos::reduceAll(*dist.comm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
-  massCutoff_ = opt_.massTolerance * global;
+  massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
 }
 
 template <class Shape>
@@ -122,22 +118,7 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
     // The particles start from the grid's consistent acceleration (their own Newmark update
     // needs a_p(0)).
     auto sgv = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const StructuredGrid gg = g;
-    const LocalNodeIndexer ix = dist_.ghostedIndexer();
-    auto x = ps_.x; auto hs = ps_.halfSize; auto a = ps_.a;
-    Kokkos::parallel_for(
-        "initial_acceleration_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
-          const ParticleStencil<Shape> stn(gg, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-          double ax = 0, ay = 0;
-          for (int i = 0; i < stn.countX(); ++i)
-            for (int j = 0; j < stn.countY(); ++j) {
-              const int n = ix(stn.i0 + i, stn.j0 + j);
-              ax += stn.weight(i, j) * sgv(n, st::AccX);
-              ay += stn.weight(i, j) * sgv(n, st::AccY);
-            }
-          a(p, 0) = ax;
-          a(p, 1) = ay;
-        });
+    interpolateToParticles<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, sgv, st::AccX, ps_.a, 1.0, false);
   }
 
   // Free dofs and the unknown map (gid = 2 node + component).
@@ -309,14 +290,23 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
   // Cells of the ghost region, numbered locally (column-major like the nodes).
   const int cellCols = gix.colEnd - gix.colBegin - 1, cellRows = g.ny;
-  auto cellDofs = [&](int ci, int cj, GO* gid, bool* freeDof) {
-    for (int a = 0; a < 4; ++a) {
-      const int ln = gix(ci + (a & 1), cj + (a >> 1));
-      for (int d = 0; d < 2; ++d) {
-        gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
-        freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;
+  // Visits every (local cell, r, c) coupling of two free dofs of a ghost-region cell.
+  auto forEachCellCoupling = [&](auto&& visit) {
+    for (int ci = 0; ci < cellCols; ++ci)
+      for (int cj = 0; cj < cellRows; ++cj) {
+        GO gid[8];
+        bool freeDof[8];
+        for (int a = 0; a < 4; ++a) {
+          const int ln = gix(gix.colBegin + ci + (a & 1), cj + (a >> 1));
+          for (int d = 0; d < 2; ++d) {
+            gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
+            freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;
+          }
+        }
+        for (int r = 0; r < 8; ++r)
+          for (int c = 0; c < 8; ++c)
+            if (freeDof[r] && freeDof[c]) visit(size_t(ci) * cellRows + cj, r * 8 + c, gid[r], gid[c]);
       }
-    }
   };
 
   // The graph depends only on the free dofs a rank sees: every cell of the ghost region couples
@@ -330,16 +320,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
   if (!same) {
     std::map<GO, std::vector<GO>> rows;
-    for (int ci = 0; ci < cellCols; ++ci)
-      for (int cj = 0; cj < cellRows; ++cj) {
-        GO gid[8];
-        bool freeDof[8];
-        cellDofs(gix.colBegin + ci, cj, gid, freeDof);
-        for (int r = 0; r < 8; ++r)
-          if (freeDof[r])
-            for (int c = 0; c < 8; ++c)
-              if (freeDof[c]) rows[gid[r]].push_back(gid[c]);
-      }
+    forEachCellCoupling([&](size_t, int, GO row, GO col) { rows[row].push_back(col); });
     std::vector<GO> rowGids;
     size_t maxPerRow = 1;
     for (auto& [r, cols] : rows) {
@@ -375,15 +356,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
     };
     const size_t none = std::numeric_limits<size_t>::max();
     cellOffsets_.assign(size_t(cellCols) * cellRows * 64, none);
-    for (int ci = 0; ci < cellCols; ++ci)
-      for (int cj = 0; cj < cellRows; ++cj) {
-        GO gid[8];
-        bool freeDof[8];
-        cellDofs(gix.colBegin + ci, cj, gid, freeDof);
-        for (int r = 0; r < 8; ++r)
-          for (int c = 0; c < 8; ++c)
-            if (freeDof[r] && freeDof[c]) cellOffsets_[(size_t(ci) * cellRows + cj) * 64 + r * 8 + c] = offsetOf(gid[r], gid[c]);
-      }
+    forEachCellCoupling([&](size_t cell, int rc, GO row, GO col) { cellOffsets_[cell * 64 + rc] = offsetOf(row, col); });
     diagOffsets_.clear();
     for (GO gidFree : freeGids_) diagOffsets_.push_back(offsetOf(gidFree, gidFree));
     patternKey_ = std::move(key);

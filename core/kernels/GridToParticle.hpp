@@ -66,23 +66,26 @@ void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix
       });
 }
 
-// Positions only: x_p += dt sum S v_i (MUSL/USF move particles with the new grid velocity).
+// target_p = (accumulate ? target_p : 0) + scale * sum_i S_ip w_i for a two-component grid
+// field w in columns col, col+1. MUSL/USF move particles with it (target x, scale dt); the
+// implicit integrator hands the initial grid acceleration to the particles (target a).
 template <class ExecSpace, class Shape, class GridView>
-void moveParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                   const GridView& field, int col, double scale) {
+void interpolateToParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                            const GridView& field, int col, const ParticleSet::Vec2& target, double scale,
+                            bool accumulate) {
   auto x = ps.x; auto hs = ps.halfSize;
   Kokkos::parallel_for(
-      "move_particles", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+      "interpolate_to_particles", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-        double ux = 0, uy = 0;
+        double wx = 0, wy = 0;
         for (int aI = 0; aI < st.countX(); ++aI)
           for (int bJ = 0; bJ < st.countY(); ++bJ) {
             const int n = ix(st.i0 + aI, st.j0 + bJ);
             const double w = st.weight(aI, bJ);
-            ux += w * field(n, col); uy += w * field(n, col + 1);
+            wx += w * field(n, col); wy += w * field(n, col + 1);
           }
-        x(p, 0) += scale * ux;
-        x(p, 1) += scale * uy;
+        target(p, 0) = (accumulate ? target(p, 0) : 0.0) + scale * wx;
+        target(p, 1) = (accumulate ? target(p, 1) : 0.0) + scale * wy;
       });
 }
 
