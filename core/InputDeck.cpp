@@ -173,7 +173,11 @@ RCP<const ParameterList> validParameters() {
   }
   {
     ParameterList& p = valid->sublist("Method", false, "spatial discretisation");
-    choice(p, "Shape Function", "MPM", {"MPM", "GIMP"}, "MPM: linear tent at particle points; GIMP: uniform GIMP");
+    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "FE Q4", "FE Q9"},
+           "MPM: linear tent at particle points; GIMP: uniform GIMP; FE Q4 / FE Q9: the finite-element "
+           "reference on the same kernels, particles fixed at the Gauss points (Q4: bilinear, 2 x 2 per cell; "
+           "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
+           "only; Body/Particles Per Cell is not used");
   }
   {
     ParameterList& p = valid->sublist("Integrator", false, "time integration");
@@ -200,7 +204,11 @@ RCP<const ParameterList> validParameters() {
            "of a slightly older P remain a good preconditioner while the particles move little");
     choice(im, "Mass Matrix", "Lumped", {"Lumped", "Consistent"},
            "Lumped: Guilkey & Weiss; Consistent: R uses M_C u and particles take their own Newmark update, "
-           "which conserves the particles' energy (the preconditioner keeps the lumped mass)");
+           "which conserves the particles' energy (P then holds the consistent mass too, except with GIMP Stiffness = Integrated)");
+    choice(im, "GIMP Stiffness", "Integrated", {"Integrated", "Consistent"},
+           "GIMP's assembled stiffness (preconditioner, or Jacobian of Assembled Newton): Integrated = the seed's "
+           "D int_Omega_p B^T B, exact per particle-cell overlap; Consistent = V_p B^T D B with the averaged "
+           "gradients, the exact derivative of the GIMP internal force");
     im.set("Consistent Initial Acceleration", true,
            "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   }
@@ -222,6 +230,13 @@ RCP<const ParameterList> validParameters() {
     p.set("Load", "", "name of the load (in Loads) that the exact solution is driven by");
     choice(p, "Form", "Closed", {"Closed", "Series"}, "bar: d'Alembert closed form or Fourier series");
     p.set("Series Terms", 2000, "terms of the series");
+    choice(p, "Beam Theory", "Euler-Bernoulli", {"Euler-Bernoulli", "Timoshenko"},
+           "beam: Euler-Bernoulli (the benchmark's formula), or Timoshenko (shear deformation and rotary "
+           "inertia; deflection only, no stress)");
+    number(p, "Shear Coefficient", 5.0 / 6.0, "Timoshenko shear coefficient kappa (5/6 for a rectangle)");
+    choice(p, "Time Discretisation", "Exact", {"Exact", "Newmark"},
+           "beam: Exact in time, or each mode advanced by the Newmark average-acceleration recurrence at the "
+           "run's time step (what an exact-in-space Newmark integration gives: isolates the spatial error)");
   }
   {
     ParameterList& p = valid->sublist("Output", false, "what is written");

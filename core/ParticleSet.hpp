@@ -26,6 +26,11 @@ struct ParticleSet {
   Stress stress;   // Cauchy stress
   Mat2 F;          // deformation gradient
   Mat2 gradient;   // scratch: gradient of a grid field at the particle (velocity or displacement)
+  // Displacement of particles that do not move (the FE reference's Gauss points); empty
+  // otherwise, where the displacement is x - x0.
+  Vec2 u;
+
+  bool fixedPositions() const { return u.extent(0) > 0; }
 
   ParticleSet() = default;
   explicit ParticleSet(int n) : count(n) {

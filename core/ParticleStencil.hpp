@@ -1,5 +1,5 @@
 // The nodes a particle talks to, with tensor-product weights and gradient weights,
-// computed from a 1D shape-function trait (LinearMpm or UniformGimp).
+// computed from a 1D shape-function trait (LinearMpm, UniformGimp or QuadraticLagrange).
 #pragma once
 
 #include "core/ShapeFunctions.hpp"
@@ -36,6 +36,7 @@ struct ParticleStencil {
     if (Shape::fixed_count) {
       // Keep the full stencil inside the grid (a particle on the last grid line uses the last cell).
       if (first < 0) first = 0;
+      // (ncells - count + 1 is even for the quadratic element, whose ncells is even.)
       if (first > ncells - count + 1) first = ncells - count + 1;
     } else {
       // Nodes outside the grid carry (to round-off) zero weight: drop them.
@@ -44,8 +45,8 @@ struct ParticleStencil {
     }
     for (int a = 0; a < count; ++a) {
       const double r = x - (origin + (first + a) * h);
-      w[a] = Shape::value(r, h, l);
-      gr[a] = Shape::gradient(r, h, l);
+      w[a] = Shape::value(r, h, l, first + a);
+      gr[a] = Shape::gradient(r, h, l, first + a);
     }
   }
 };

@@ -1,6 +1,8 @@
 // Grid shape functions as small traits: each gives the 1D weight and gradient weight of a
 // node for a particle, and the range of nodes with non-zero weight. 2D weights are tensor
-// products (see ParticleStencil). Both traits are usable by the same kernels.
+// products (see ParticleStencil). All traits are usable by the same kernels. `node` is the
+// node's index along the direction (only the quadratic element needs it: its corner and
+// mid-side functions differ).
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -20,11 +22,11 @@ struct LinearMpm {
   static constexpr bool fixed_count = true;  // always 2 nodes per direction inside the grid
   static constexpr const char* name = "MPM";
 
-  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/) {
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int /*node*/ = 0) {
     const double a = r < 0 ? -r : r;
     return a < h ? 1.0 - a / h : 0.0;
   }
-  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/) {
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int /*node*/ = 0) {
     const double a = r < 0 ? -r : r;
     if (a >= h) return 0.0;
     return r < 0 ? 1.0 / h : -1.0 / h;
@@ -44,7 +46,7 @@ struct UniformGimp {
   static constexpr bool fixed_count = false;  // 2 or 3 nodes per direction
   static constexpr const char* name = "GIMP";
 
-  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double l) {
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double l, int /*node*/ = 0) {
     const double a = r < 0 ? -r : r;
     if (a < l) return 1.0 - (r * r + l * l) / (2.0 * h * l);
     if (a < h - l) return 1.0 - a / h;
@@ -54,7 +56,7 @@ struct UniformGimp {
     }
     return 0.0;
   }
-  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double l) {
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double l, int /*node*/ = 0) {
     const double a = r < 0 ? -r : r;
     const double sign = r < 0 ? -1.0 : 1.0;
     if (a < l) return -r / (h * l);
@@ -67,6 +69,34 @@ struct UniformGimp {
     const int last = floorToInt(xi + l_over_h) + 1;
     count = last - first + 1;
     if (count > max_nodes_1d) count = max_nodes_1d;
+  }
+};
+
+// Quadratic Lagrange (the 1D factor of the Q9 element) for the finite-element reference mode:
+// an element spans two grid cells per direction, with nodes at its ends (even grid indices)
+// and its middle (odd). With s = |r| / h, an end node's function is (1 - s)(1 - s/2) for
+// s < 2 (it reaches across the element to the far end node), a middle node's 1 - s^2 for
+// s < 1. Cells X and Cells Y must be even.
+struct QuadraticLagrange {
+  static constexpr int max_nodes_1d = 3;
+  static constexpr bool fixed_count = true;  // always the element's 3 nodes per direction
+  static constexpr const char* name = "FE Q9";
+
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int node) {
+    const double s = (r < 0 ? -r : r) / h;
+    if (node % 2 == 0) return s < 2.0 ? (1.0 - s) * (1.0 - 0.5 * s) : 0.0;
+    return s < 1.0 ? 1.0 - s * s : 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int node) {
+    const double s = (r < 0 ? -r : r) / h;
+    const double sign = r < 0 ? -1.0 : 1.0;
+    if (node % 2 == 0) return s < 2.0 ? sign * (s - 1.5) / h : 0.0;
+    return s < 1.0 ? -2.0 * r / (h * h) : 0.0;
+  }
+  // The element containing xi (in cells): its first node is even.
+  KOKKOS_INLINE_FUNCTION static void range(double xi, double /*l_over_h*/, int& first, int& count) {
+    first = 2 * floorToInt(0.5 * xi);
+    count = 3;
   }
 };
 

@@ -42,6 +42,13 @@ ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistri
   forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 4));
   forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 4));
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
+  seedGimpStiffness_ = std::is_same<Shape, UniformGimp>::value && opt_.seedGimpStiffness;
+  blockNodes_ = seedGimpStiffness_ ? 2 : Shape::max_nodes_1d;
+  blockStride_ = std::is_same<Shape, QuadraticLagrange>::value ? 2 : 1;
+  if (opt_.fixedParticles) {
+    gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 4));
+    if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ParticleSet::Vec2("u", ps_.count);
+  }
 }
 
 template <class Shape>
@@ -50,13 +57,15 @@ ImplicitNewmark<Shape>::~ImplicitNewmark() = default;
 namespace {
 std::string describe(const Teuchos::ParameterList& p) {
   const std::string jac = p.get<std::string>("Jacobian");
+  if (jac == "Assembled") return "Assembled Newton, linear solver " + p.get<std::string>("Assembled Linear Solver");
   return jac + " Newton, preconditioner " + p.get<std::string>("Preconditioner");
 }
 }  // namespace
 
 template <class Shape>
 std::string ImplicitNewmark<Shape>::name() const {
-  return std::string("implicit ") + Shape::name + " Newmark (" + describe(solver_->parameters()) + ")";
+ const std::string method = opt_.fixedParticles ? (Shape::max_nodes_1d == 3 ? "FE Q9" : "FE Q4") : Shape::name;
+  return std::string("implicit ") + method + " Newmark (" + describe(solver_->parameters()) + ")";
 }
 
 template <class Shape>
@@ -93,7 +102,24 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
   }
   firstStep_ = false;
 
-  if (!initialAcceleration) correctProjection();
+  // Fixed particles (FE reference), lumped mass: the grid keeps its own v and a from the last
+  // step (a projection from the Gauss points would smooth them by M_L^-1 M_C). With the
+  // consistent mass the projection M_C v = sum_p m_p S_ip v_p is already exact.
+  const bool gridCarriesState = opt_.fixedParticles && !opt_.consistentMass && !initialAcceleration;
+  if (gridCarriesState) {
+    auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    auto k = gridKinematics_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    Kokkos::parallel_for(
+        "grid_state_from_last_step", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
+          const double m = s(n, st::Mass);
+          for (int d = 0; d < 2; ++d) {
+            s(n, st::VelX + d) = m * k(n, d);
+            s(n, st::AccX + d) = m * k(n, 2 + d);
+          }
+        });
+  } else if (!initialAcceleration) {
+    correctProjection();
+  }
   {
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     loads_.template applyNodal<Exec>(s, st::FextX, t + dt);
@@ -283,34 +309,39 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
     return P_;
   }
   stepsSinceAssembly_ = 0;
-  const bool gimp = std::is_same<Shape, UniformGimp>::value;
   const StructuredGrid& g = dist_.grid();
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
   const auto ghostMap = dist_.ghostedNodeMap();
   auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
-  // Cells of the ghost region, numbered locally (column-major like the nodes).
-  const int cellCols = gix.colEnd - gix.colBegin - 1, cellRows = g.ny;
-  // Visits every (local cell, r, c) coupling of two free dofs of a ghost-region cell.
-  auto forEachCellCoupling = [&](auto&& visit) {
-    for (int ci = 0; ci < cellCols; ++ci)
-      for (int cj = 0; cj < cellRows; ++cj) {
-        GO gid[8];
-        bool freeDof[8];
-        for (int a = 0; a < 4; ++a) {
-          const int ln = gix(gix.colBegin + ci + (a & 1), cj + (a >> 1));
+  // Blocks of the ghost region (cells, Q9 elements or GIMP 3 x 3 node patches), numbered
+  // locally column by column; each couples the free dofs of its nodes.
+  const int bn = blockNodes_, stride = blockStride_, nd = 2 * bn * bn;
+  const int firstBi = ((gix.colBegin + stride - 1) / stride) * stride;
+  const int blockCols = gix.colEnd - bn >= firstBi ? (gix.colEnd - bn - firstBi) / stride + 1 : 0;
+  const int blockRows = (g.ny + 1 - bn) / stride + 1;
+  auto blockIndex = [&](int bi, int bj) { return size_t((bi - firstBi) / stride) * blockRows + bj / stride; };
+  // Visits every (local block, r, c) coupling of two free dofs of a block.
+  auto forEachBlockCoupling = [&](auto&& visit) {
+    std::vector<GO> gid(nd);
+    std::vector<char> freeDof(nd);
+    for (int ci = 0; ci < blockCols; ++ci)
+      for (int cj = 0; cj < blockRows; ++cj) {
+        const int bi = firstBi + ci * stride, bj = cj * stride;
+        for (int a = 0; a < bn * bn; ++a) {
+          const int ln = gix(bi + a % bn, bj + a / bn);
           for (int d = 0; d < 2; ++d) {
             gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
             freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;
           }
         }
-        for (int r = 0; r < 8; ++r)
-          for (int c = 0; c < 8; ++c)
-            if (freeDof[r] && freeDof[c]) visit(size_t(ci) * cellRows + cj, r * 8 + c, gid[r], gid[c]);
+        for (int r = 0; r < nd; ++r)
+          for (int c = 0; c < nd; ++c)
+            if (freeDof[r] && freeDof[c]) visit(blockIndex(bi, bj), r * nd + c, gid[r], gid[c]);
       }
   };
 
-  // The graph depends only on the free dofs a rank sees: every cell of the ghost region couples
-  // its free dofs (cells without particles just hold zeros). Rebuilt when that set changes.
+  // The graph depends only on the free dofs a rank sees: every block of the ghost region couples
+  // its free dofs (blocks without particles just hold zeros). Rebuilt when that set changes.
   std::vector<GO> key;
   for (size_t n = 0; n < sg.extent(0); ++n)
     for (int d = 0; d < 2; ++d)
@@ -320,7 +351,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
   if (!same) {
     std::map<GO, std::vector<GO>> rows;
-    forEachCellCoupling([&](size_t, int, GO row, GO col) { rows[row].push_back(col); });
+    forEachBlockCoupling([&](size_t, int, GO row, GO col) { rows[row].push_back(col); });
     std::vector<GO> rowGids;
     size_t maxPerRow = 1;
     for (auto& [r, cols] : rows) {
@@ -342,7 +373,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
     firstP->fillComplete(unknownMap_, unknownMap_);
     P_ = Teuchos::rcp(new CrsMatrix(firstP->getCrsGraph()));  // static graph: values only from now on
 
-    // Offsets in the overlap matrix's values: per local cell and (r, c), and per mass diagonal.
+    // Offsets in the overlap matrix's values: per local block and (r, c), and per mass diagonal.
     auto lcl = overlapP_->getLocalMatrixDevice();
     auto rowPtr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lcl.graph.row_map);
     auto entries = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lcl.graph.entries);
@@ -355,20 +386,30 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
       return off;
     };
     const size_t none = std::numeric_limits<size_t>::max();
-    cellOffsets_.assign(size_t(cellCols) * cellRows * 64, none);
-    forEachCellCoupling([&](size_t cell, int rc, GO row, GO col) { cellOffsets_[cell * 64 + rc] = offsetOf(row, col); });
+    blockOffsets_.assign(size_t(blockCols) * blockRows * nd * nd, none);
+    forEachBlockCoupling(
+        [&](size_t block, int rc, GO row, GO col) { blockOffsets_[block * nd * nd + rc] = offsetOf(row, col); });
     diagOffsets_.clear();
     for (GO gidFree : freeGids_) diagOffsets_.push_back(offsetOf(gidFree, gidFree));
     patternKey_ = std::move(key);
   }
 
-  // Values: pair stiffness into the cell offsets, the lumped mass into the diagonal, then one
+  // Values: block stiffness into the block offsets, the lumped mass into the diagonal, then one
   // Export sums the ranks' overlapping rows.
-  const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, !gimp);
-  PairMatrices Ke("pair_stiffness", pairs.count);
-  pairStiffness<Exec>(g, pairs, ps_, mat_, gimp, Ke);
-  auto C = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pairs.cell);
-  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Ke);
+  // The consistent mass goes into the stencil blocks, so that P is the Jacobian of the
+  // consistent-mass residual; the seed's GIMP blocks (cells) cannot hold a GIMP stencil's
+  // mass coupling, so P keeps the lumped mass there.
+  const double massFactor = 4.0 / (dt_ * dt_);
+  const bool consistentMassInP = opt_.consistentMass && !seedGimpStiffness_;
+  BlockMatrices Kb;
+  if (seedGimpStiffness_) {
+    const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, false);
+    Kb = overlapStiffness<Exec>(g, pairs, ps_, mat_);
+  } else {
+    Kb = stencilStiffness<Exec, Shape>(g, ps_, mat_, consistentMassInP ? massFactor : 0.0);
+  }
+  auto O = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.origin);
+  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.K);
   auto so = stateOwned_->getLocalViewHost(Tpetra::Access::ReadOnly);
   auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), freeNode_);
   const size_t none = std::numeric_limits<size_t>::max();
@@ -376,13 +417,13 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   {
     auto values = overlapP_->getLocalMatrixDevice().values;
     Kokkos::deep_copy(values, 0.0);
-    for (int k = 0; k < pairs.count; ++k) {
-      const size_t* off = &cellOffsets_[(size_t(C(k, 0) - gix.colBegin) * cellRows + C(k, 1)) * 64];
-      for (int rc = 0; rc < 64; ++rc)
-        if (off[rc] != none) values(off[rc]) += K(k, rc / 8, rc % 8);
+    for (int k = 0; k < Kb.count; ++k) {
+      const size_t* off = &blockOffsets_[blockIndex(O(k, 0), O(k, 1)) * nd * nd];
+      for (int rc = 0; rc < nd * nd; ++rc)
+        if (off[rc] != none) values(off[rc]) += K(k, rc / nd, rc % nd);
     }
-    const double massFactor = 4.0 / (dt_ * dt_);
-    for (size_t k = 0; k < freeGids_.size(); ++k) values(diagOffsets_[k]) += massFactor * so(hn(k), st::Mass);
+    if (!consistentMassInP)
+      for (size_t k = 0; k < freeGids_.size(); ++k) values(diagOffsets_[k]) += massFactor * so(hn(k), st::Mass);
   }
   overlapP_->fillComplete(unknownMap_, unknownMap_);
   P_->resumeFill();
@@ -411,6 +452,20 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
                                       : 0.0;
         });
   }
+  if (opt_.fixedParticles) {  // the grid's own Newmark update, kept for the next step
+    auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    auto k = gridKinematics_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
+    const double halfDt = 0.5 * dt_;
+    Kokkos::parallel_for(
+        "grid_newmark_update", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
+          for (int c = 0; c < 2; ++c) {
+            const double aNew = d(n, dp::AnewX + c);
+            k(n, c) = s(n, st::FreeX + c) > 0.5 ? s(n, st::VelX + c) + halfDt * (s(n, st::AccX + c) + aNew) : 0.0;
+            k(n, 2 + c) = aNew;
+          }
+        });
+  }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
   // Stress from the converged displacement (weights at x_p(t)), then the particle update.
   {
@@ -419,9 +474,9 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
     updateStress<Exec>(ps_, mat_, 1.0);
     const StructuredGrid g = dist_.grid();
     const LocalNodeIndexer ix = dist_.ghostedIndexer();
-    auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a;
+    auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
     const double dt = dt_;
-    const bool consistent = opt_.consistentMass;
+    const bool consistent = opt_.consistentMass, fixed = opt_.fixedParticles;
     const double c1 = 4.0 / (dt * dt), c2 = 4.0 / dt;
     Kokkos::parallel_for(
         "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
@@ -438,7 +493,11 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
             ax = c1 * ux - c2 * v(p, 0) - a(p, 0);
             ay = c1 * uy - c2 * v(p, 1) - a(p, 1);
           }
-          x(p, 0) += ux; x(p, 1) += uy;
+          if (fixed) {  // Gauss points stay; their displacement is kept apart
+            up(p, 0) += ux; up(p, 1) += uy;
+          } else {
+            x(p, 0) += ux; x(p, 1) += uy;
+          }
           v(p, 0) += 0.5 * dt * (a(p, 0) + ax);
           v(p, 1) += 0.5 * dt * (a(p, 1) + ay);
           a(p, 0) = ax; a(p, 1) = ay;
@@ -501,5 +560,6 @@ void ImplicitNewmark<Shape>::addStatistics(Teuchos::ParameterList& summary) cons
 
 template class ImplicitNewmark<LinearMpm>;
 template class ImplicitNewmark<UniformGimp>;
+template class ImplicitNewmark<QuadraticLagrange>;
 
 }  // namespace impm

@@ -36,9 +36,17 @@ struct ImplicitOptions {
   int preconditionerRefreshInterval = 1;
   // Consistent mass: R uses M_C u = S^T M_p S u (one particle round trip per residual) and the
   // particles take the Newmark update themselves (a_p,new = 4/dt^2 u_p - 4/dt v_p - a_p), so
-  // that particle kinetic plus strain energy is what the trapezoidal rule conserves. The
-  // preconditioner keeps the lumped mass. Default: lumped (Guilkey & Weiss).
+  // that particle kinetic plus strain energy is what the trapezoidal rule conserves. P holds
+  // the consistent mass too (except with the seed's GIMP stiffness, whose cell blocks cannot:
+  // lumped there). Default: lumped (Guilkey & Weiss).
   bool consistentMass = false;
+  // GIMP's preconditioner / assembled Jacobian: the seed's stiffness integrated over particle
+  // domains (true), or V_p B^T D B with the averaged gradients, the exact derivative of the
+  // GIMP internal force (false).
+  bool seedGimpStiffness = true;
+  // Finite-element reference mode: the particles are Gauss points and do not move; the grid
+  // carries the velocity and acceleration from step to step (no projection from particles).
+  bool fixedParticles = false;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 
@@ -108,9 +116,14 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   long jacobianVersion_ = 0;       // bumped at every (re)assembly
   long preconditionerVersion_ = 0; // bumped when the preconditioner must be refactored
   int stepsSinceAssembly_ = 0;
-  // Offsets into overlapP_'s local values: per ghost-region cell and local dof pair (r, c), and
+  // Offsets into overlapP_'s local values: per ghost-region block and local dof pair (r, c), and
   // per owned free dof for the mass diagonal.
-  std::vector<size_t> cellOffsets_, diagOffsets_;
+  std::vector<size_t> blockOffsets_, diagOffsets_;
+  // Blocks of the assembled stiffness: nodes per direction and spacing of their first nodes
+  // (cells: 2 and 1; Q9 elements: 3 and 2; GIMP stencils: 3 and 1).
+  int blockNodes_ = 2, blockStride_ = 1;
+  bool seedGimpStiffness_ = false;  // the seed's overlap-integrated K (GIMP only)
+  Teuchos::RCP<MultiVector> gridKinematics_;  // fixed particles: grid v, a at the end of the last step
 
   std::vector<int> newtonPerStep_, krylovPerNewton_;
   int halvings_ = 0;

@@ -89,6 +89,9 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   body_.yMin = b.get<double>("Y Min"); body_.yMax = b.get<double>("Y Max");
   body_.particlesPerCellX = positiveInt(b, "Body", "Particles Per Cell X");
   body_.particlesPerCellY = positiveInt(b, "Body", "Particles Per Cell Y");
+  shape_ = deck_.sublist("Method").get<std::string>("Shape Function");
+  if (shape_ == "FE Q4") body_.placement = Placement::GaussQ4;
+  if (shape_ == "FE Q9") body_.placement = Placement::GaussQ9;
   if (!(body_.xMax > body_.xMin)) throw DeckError("'Body/X Max' must exceed 'Body/X Min'");
   if (!(body_.yMax > body_.yMin)) throw DeckError("'Body/Y Max' must exceed 'Body/Y Min'");
   const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
@@ -99,6 +102,16 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   for (auto [key, v, o, h] : {std::make_tuple("X Min", body_.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", body_.xMax, grid_.x0, grid_.hx),
                               std::make_tuple("Y Min", body_.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", body_.yMax, grid_.y0, grid_.hy)})
     if (!onGridLine(v, o, h)) throw DeckError(std::string("'Body/") + key + "' = " + fmt(v) + " is not on a grid line");
+
+  if (shape_ == "FE Q9") {  // elements of 2 x 2 cells, the body made of whole elements
+    if (grid_.nx % 2 || grid_.ny % 2)
+      throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
+                      std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
+    for (auto [key, v, o, h] : {std::make_tuple("X Min", body_.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", body_.xMax, grid_.x0, grid_.hx),
+                                std::make_tuple("Y Min", body_.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", body_.yMax, grid_.y0, grid_.hy)})
+      if (std::lround((v - o) / h) % 2)
+        throw DeckError(std::string("'Body/") + key + "' = " + fmt(v) + " is not on an element edge of FE Q9 (an even grid line)");
+  }
 
   // Integrator.
   const ParameterList& in = deck_.sublist("Integrator");
@@ -225,10 +238,29 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
       beam_ = BeamHarmonicExact{body_.length(), load->x - body_.xMin, exactModulus_, I, material_.density * A,
                                 load->forceY, load->time.omega};
       neutralAxisY_ = 0.5 * (body_.yMin + body_.yMax);
+      timoshenko_ = e.get<std::string>("Beam Theory") == "Timoshenko";
+      if (timoshenko_) {
+        const double kappa = positive(e, "Exact Solution", "Shear Coefficient");
+        const double G = material_.E / (2.0 * (1.0 + material_.nu));
+        timo_ = TimoshenkoBeamHarmonic{body_.length(), load->x - body_.xMin, exactModulus_, G, kappa, A, I,
+                                       material_.density, load->forceY, load->time.omega};
+      }
+      if (e.get<std::string>("Time Discretisation") == "Newmark") {
+        // The whole history once per monitor (deflection only), indexed by step.
+        const int terms = std::min(exactTerms_, 400);
+        for (const auto& mon : monitors_) {
+          const double x = mon.x0 - body_.xMin;
+          newmarkHistory_.push_back(mon.quantity != "Displacement Y" ? std::vector<double>()
+                                    : timoshenko_ ? timo_.deflectionHistoryNewmark(x, dt_, steps_, terms)
+                                                  : deflectionHistoryNewmark(beam_, x, dt_, steps_, terms));
+        }
+      }
     }
   }
 
-  const bool gimp = deck_.sublist("Method").get<std::string>("Shape Function") == "GIMP";
+  const bool gimp = shape_ == "GIMP", fe = shape_ == "FE Q4" || shape_ == "FE Q9";
+  if (fe && integratorType != "Implicit")
+    throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
   // Solver options are checked whatever the integrator, so that a bad one never waits for a
   // later implicit run to be found.
   if (integratorType != "Implicit") {
@@ -247,6 +279,8 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     iopt.projectionIterations = im.get<int>("Consistent Projection Iterations");
     iopt.preconditionerRefreshInterval = im.get<int>("Preconditioner Refresh Interval");
     iopt.consistentMass = im.get<std::string>("Mass Matrix") == "Consistent";
+    iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
+    iopt.fixedParticles = fe;
     if (iopt.preconditionerRefreshInterval < 1)
       throw DeckError("'Integrator/Implicit/Preconditioner Refresh Interval' must be at least 1");
     if (iopt.projectionIterations < 0)
@@ -254,6 +288,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
     try {
       if (gimp) integrator_ = std::make_unique<ImplicitNewmark<UniformGimp>>(particles_, *dist_, material_, constraints_, loads_, iopt);
+      else if (shape_ == "FE Q9") integrator_ = std::make_unique<ImplicitNewmark<QuadraticLagrange>>(particles_, *dist_, material_, constraints_, loads_, iopt);
       else integrator_ = std::make_unique<ImplicitNewmark<LinearMpm>>(particles_, *dist_, material_, constraints_, loads_, iopt);
     } catch (const std::invalid_argument& e) {
       throw DeckError(e.what());
@@ -303,8 +338,9 @@ double Simulation::monitorValue(const Monitor& mon) const {
     return v;
   };
   const std::string& q = mon.quantity;
-  if (q == "Displacement X") return read(particles_.x, p, 0) - mon.x0;
-  if (q == "Displacement Y") return read(particles_.x, p, 1) - mon.y0;
+  const bool fixed = particles_.fixedPositions();
+  if (q == "Displacement X") return fixed ? read(particles_.u, p, 0) : read(particles_.x, p, 0) - mon.x0;
+  if (q == "Displacement Y") return fixed ? read(particles_.u, p, 1) : read(particles_.x, p, 1) - mon.y0;
   if (q == "Velocity X") return read(particles_.v, p, 0);
   if (q == "Velocity Y") return read(particles_.v, p, 1);
   if (q == "Stress XX") return read(particles_.stress, p, 0);
@@ -322,8 +358,13 @@ double Simulation::exactValue(const Monitor& mon, double t) const {
   } else if (exactType_ == "Simply Supported Beam") {
     const double x = mon.x0 - body_.xMin;
     const int terms = std::min(exactTerms_, 400);
-    if (q == "Displacement Y") return beam_.deflection(x, t, terms);
-    if (q == "Stress XX") return beam_.bendingStress(x, mon.y0 - neutralAxisY_, t, terms);
+    if (!newmarkHistory_.empty()) {
+      const auto& h = newmarkHistory_[&mon - monitors_.data()];
+      const long k = std::lround(t / dt_);
+      return k >= 0 && k < (long)h.size() ? h[k] : NaN;
+    }
+    if (q == "Displacement Y") return timoshenko_ ? timo_.deflection(x, t, terms) : beam_.deflection(x, t, terms);
+    if (q == "Stress XX" && !timoshenko_) return beam_.bendingStress(x, mon.y0 - neutralAxisY_, t, terms);
   }
   return NaN;
 }
@@ -478,8 +519,21 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Exact Solution", exactType_);
   if (hasExact()) {
     s.set("Exact Modulus", exactModulus_);
+    if (exactType_ == "Simply Supported Beam") {
+      s.set("Exact Beam Theory", timoshenko_ ? std::string("Timoshenko") : std::string("Euler-Bernoulli"));
+      s.set("Exact Time Discretisation", newmarkHistory_.empty() ? std::string("Exact") : std::string("Newmark"));
+    }
     ParameterList& err = s.sublist("Relative L2 Error");
     for (const auto& [name, e] : r.relativeL2) err.set(name, e);
+  }
+  // Where each monitor sits (its particle's reference position), so that studies can evaluate
+  // other reference solutions at the same point.
+  ParameterList& mons = s.sublist("Monitors");
+  for (const auto& m : monitors_) {
+    ParameterList& e = mons.sublist(m.name);
+    e.set("Quantity", m.quantity);
+    e.set("X", m.x0);
+    e.set("Y", m.y0);
   }
   integrator_->addStatistics(s);
   const std::string path = outputDir_ + "/summary.yaml";

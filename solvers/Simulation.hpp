@@ -15,6 +15,7 @@
 #include "core/ParticleSet.hpp"
 #include "physics/Body.hpp"
 #include "physics/Constraints.hpp"
+#include "physics/BeamTheories.hpp"
 #include "physics/ExactSolutions.hpp"
 #include "physics/LinearElastic.hpp"
 #include "physics/Loads.hpp"
@@ -70,6 +71,7 @@ class Simulation {
   StructuredGrid grid_;
   LinearElastic material_;
   RectangularBody body_;
+  std::string shape_;  // Method/Shape Function
   std::unique_ptr<GridDistribution> dist_;
   ParticleSet particles_;
   NodalConstraints constraints_;
@@ -82,6 +84,9 @@ class Simulation {
   double exactModulus_ = 0;
   BarStepExact bar_{};
   BeamHarmonicExact beam_{};
+  bool timoshenko_ = false;
+  TimoshenkoBeamHarmonic timo_{};
+  std::vector<std::vector<double>> newmarkHistory_;  // per monitor, per step (Time Discretisation: Newmark)
   bool exactSeries_ = false;
   int exactTerms_ = 2000;
   double neutralAxisY_ = 0;

@@ -172,7 +172,7 @@ TEUCHOS_UNIT_TEST(Implicit, AgreesWithExplicitAtSmallStep) {
 TEUCHOS_UNIT_TEST(Implicit, DistributedMatchesSerial) {
   auto comm = Tpetra::getDefaultComm();
   auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
-  for (const std::string method : {"MPM", "GIMP"}) {
+  for (const std::string method : {"MPM", "GIMP", "FE Q4", "FE Q9"}) {
     ParameterList d = barDeck(method, "Implicit", 1e-8, 200, "test_output/implicit_np_" + method);
     d.sublist("Implicit Solver").set("Jacobian", "Assembled");
     d.sublist("Implicit Solver").set("Displacement Tolerance", 1e-13);

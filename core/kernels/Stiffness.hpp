@@ -1,48 +1,74 @@
-// Stiffness contributions of particle-cell pairs: K_e = int B^T D B over the pair's overlap
-// box. For GIMP the particle's D is spread over its domain (chi_p) and the integral is exact:
-// on one cell the integrand is a polynomial of degree <= 2 in x and in y, so 2 x 2
-// Gauss-Legendre points on the overlap box integrate it exactly (the seed's slide 6). For MPM
-// the particle is an integration point with weight V_p.
-// Local dofs of the cell (i, j): node a = di + 2 dj at (i + di, j + dj), dof 2 a + component.
+// Stiffness contributions K_e = int B^T D B, assembled over blocks of grid nodes.
+//
+// Two ways to integrate, both as Kokkos kernels that fill one small dense matrix per entry:
+//  - overlapStiffness (the seed's GIMP stiffness, slide 6): one entry per particle-cell pair.
+//    The particle's D is spread over its domain (chi_p) and the integral is exact: on one cell
+//    the integrand is a polynomial of degree <= 2 in x and in y, so 2 x 2 Gauss-Legendre
+//    points on the overlap box integrate it exactly. Block = the cell's 2 x 2 nodes.
+//  - stencilStiffness: one entry per particle, V_p B_p^T D B_p with B_p from the particle's
+//    stencil gradients. For MPM and the FE modes the particle is an integration point (point
+//    gradients; the FE reference's particles are Gauss points with their weights as volumes);
+//    for GIMP it uses the averaged gradients and is then the exact derivative of the GIMP
+//    internal force (the seed's integrated stiffness is not). Block = the stencil's nodes.
+// Local dof of block node (a, b): 2 (a + blockNodes b) + component.
 #pragma once
 
 #include "core/ParticleCellPairs.hpp"
+#include "core/ParticleStencil.hpp"
 #include "physics/LinearElastic.hpp"
 
 namespace impm {
 
-using PairMatrices = Kokkos::View<double* [8][8], Kokkos::LayoutRight, DeviceType>;
+// Per entry: the block's first node (i, j) and its dense matrix over the block's dofs.
+struct BlockMatrices {
+  int count = 0;
+  int blockNodes = 2;  // nodes per direction of a block
+  Kokkos::View<int* [2], Kokkos::LayoutRight, DeviceType> origin;
+  Kokkos::View<double***, Kokkos::LayoutRight, DeviceType> K;
+  int dofs() const { return 2 * blockNodes * blockNodes; }
+};
+
+namespace detail {
+// K(k) += w B^T D B for node gradients (gx, gy) of the block's nodes (nn of them).
+template <class KView>
+KOKKOS_INLINE_FUNCTION void addBtDB(const KView& K, int k, int nn, const double* gx, const double* gy, double w,
+                                    double c11, double c12, double c33) {
+  for (int a = 0; a < nn; ++a)
+    for (int b = 0; b < nn; ++b) {
+      // B_a^T D B_b for B_a = [[gx, 0], [0, gy], [gy, gx]].
+      K(k, 2 * a, 2 * b) += w * (c11 * gx[a] * gx[b] + c33 * gy[a] * gy[b]);
+      K(k, 2 * a, 2 * b + 1) += w * (c12 * gx[a] * gy[b] + c33 * gy[a] * gx[b]);
+      K(k, 2 * a + 1, 2 * b) += w * (c12 * gy[a] * gx[b] + c33 * gx[a] * gy[b]);
+      K(k, 2 * a + 1, 2 * b + 1) += w * (c11 * gy[a] * gy[b] + c33 * gx[a] * gx[b]);
+    }
+}
+}  // namespace detail
 
 template <class ExecSpace>
-void pairStiffness(const StructuredGrid& g, const ParticleCellPairs& pairs, const ParticleSet& ps,
-                   const LinearElastic& mat, bool gimp, const PairMatrices& Ke) {
+BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs& pairs, const ParticleSet& ps,
+                               const LinearElastic& mat) {
+  BlockMatrices out;
+  out.count = pairs.count;
+  out.blockNodes = 2;
+  out.origin = pairs.cell;
+  out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
   auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
-  auto V = ps.volume; auto hs = ps.halfSize; auto x = ps.x;
+  auto V = ps.volume; auto hs = ps.halfSize;
+  auto K = out.K;
   const double c11 = mat.c11(), c12 = mat.c12(), c33 = mat.c33();
   Kokkos::parallel_for(
-      "pair_stiffness", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
+      "overlap_stiffness", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
         const int p = P(k);
         const double cx = g.x0 + C(k, 0) * g.hx, cy = g.y0 + C(k, 1) * g.hy;
-        double qx[2], qy[2], wq;
-        int nq;
-        if (gimp) {
-          // Gauss points +-1/sqrt(3) on the box; weight = box area / 4 * thickness of the particle.
-          const double a = B(k, 0), b = B(k, 1), c = B(k, 2), d = B(k, 3);
-          const double s = 0.5773502691896257;
-          qx[0] = 0.5 * (a + b) - 0.5 * (b - a) * s; qx[1] = 0.5 * (a + b) + 0.5 * (b - a) * s;
-          qy[0] = 0.5 * (c + d) - 0.5 * (d - c) * s; qy[1] = 0.5 * (c + d) + 0.5 * (d - c) * s;
-          const double thickness = V(p) / (4.0 * hs(p, 0) * hs(p, 1));
-          wq = 0.25 * (b - a) * (d - c) * thickness;
-          nq = 2;
-        } else {
-          qx[0] = x(p, 0); qy[0] = x(p, 1);
-          wq = V(p);
-          nq = 1;
-        }
-        for (int r = 0; r < 8; ++r)
-          for (int s = 0; s < 8; ++s) Ke(k, r, s) = 0.0;
-        for (int ix = 0; ix < nq; ++ix)
-          for (int iy = 0; iy < nq; ++iy) {
+        // Gauss points +-1/sqrt(3) on the box; weight = box area / 4 * thickness of the particle.
+        const double a = B(k, 0), b = B(k, 1), c = B(k, 2), d = B(k, 3);
+        const double s = 0.5773502691896257;
+        const double qx[2] = {0.5 * (a + b) - 0.5 * (b - a) * s, 0.5 * (a + b) + 0.5 * (b - a) * s};
+        const double qy[2] = {0.5 * (c + d) - 0.5 * (d - c) * s, 0.5 * (c + d) + 0.5 * (d - c) * s};
+        const double thickness = V(p) / (4.0 * hs(p, 0) * hs(p, 1));
+        const double wq = 0.25 * (b - a) * (d - c) * thickness;
+        for (int ix = 0; ix < 2; ++ix)
+          for (int iy = 0; iy < 2; ++iy) {
             const double xi = (qx[ix] - cx) / g.hx, eta = (qy[iy] - cy) / g.hy;
             const double Nx[2] = {1.0 - xi, xi}, Ny[2] = {1.0 - eta, eta};
             const double dNx[2] = {-1.0 / g.hx, 1.0 / g.hx}, dNy[2] = {-1.0 / g.hy, 1.0 / g.hy};
@@ -52,16 +78,53 @@ void pairStiffness(const StructuredGrid& g, const ParticleCellPairs& pairs, cons
                 gx[di + 2 * dj] = dNx[di] * Ny[dj];
                 gy[di + 2 * dj] = Nx[di] * dNy[dj];
               }
-            for (int a = 0; a < 4; ++a)
-              for (int b = 0; b < 4; ++b) {
-                // B_a^T D B_b for B_a = [[gx, 0], [0, gy], [gy, gx]].
-                Ke(k, 2 * a, 2 * b) += wq * (c11 * gx[a] * gx[b] + c33 * gy[a] * gy[b]);
-                Ke(k, 2 * a, 2 * b + 1) += wq * (c12 * gx[a] * gy[b] + c33 * gy[a] * gx[b]);
-                Ke(k, 2 * a + 1, 2 * b) += wq * (c12 * gy[a] * gx[b] + c33 * gx[a] * gy[b]);
-                Ke(k, 2 * a + 1, 2 * b + 1) += wq * (c11 * gy[a] * gy[b] + c33 * gx[a] * gx[b]);
-              }
+            detail::addBtDB(K, k, 4, gx, gy, wq, c11, c12, c33);
           }
       });
+  return out;
+}
+
+// Blocks are Shape::max_nodes_1d nodes wide; a stencil shorter than that (GIMP near a cell
+// line) sits inside the block, which is shifted to stay inside the grid. With massFactor c > 0
+// the block also gets c times the particle's consistent mass, c m_p S_ap S_bp per component.
+template <class ExecSpace, class Shape>
+BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const LinearElastic& mat,
+                               double massFactor = 0.0) {
+  constexpr int bn = Shape::max_nodes_1d;
+  constexpr int nd = 2 * bn * bn;
+  BlockMatrices out;
+  out.count = ps.count;
+  out.blockNodes = bn;
+  out.origin = decltype(out.origin)("stencil_block_origin", ps.count);
+  out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("stencil_stiffness", ps.count, nd, nd);
+  auto O = out.origin; auto K = out.K;
+  auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto m = ps.mass;
+  const double c11 = mat.c11(), c12 = mat.c12(), c33 = mat.c33();
+  Kokkos::parallel_for(
+      "stencil_stiffness", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        const int bi = st.i0 < g.nx + 1 - bn ? st.i0 : g.nx + 1 - bn;
+        const int bj = st.j0 < g.ny + 1 - bn ? st.j0 : g.ny + 1 - bn;
+        O(p, 0) = bi;
+        O(p, 1) = bj;
+        double gx[bn * bn], gy[bn * bn], w[bn * bn];
+        for (int n = 0; n < bn * bn; ++n) gx[n] = gy[n] = w[n] = 0.0;
+        for (int a = 0; a < st.countX(); ++a)
+          for (int b = 0; b < st.countY(); ++b) {
+            const int n = (st.i0 + a - bi) + bn * (st.j0 + b - bj);
+            gx[n] = st.gradX(a, b);
+            gy[n] = st.gradY(a, b);
+            w[n] = st.weight(a, b);
+          }
+        for (int r = 0; r < nd; ++r)
+          for (int c = 0; c < nd; ++c) K(p, r, c) = 0.0;
+        detail::addBtDB(K, p, bn * bn, gx, gy, V(p), c11, c12, c33);
+        if (massFactor > 0.0)
+          for (int a = 0; a < bn * bn; ++a)
+            for (int b = 0; b < bn * bn; ++b)
+              for (int c = 0; c < 2; ++c) K(p, 2 * a + c, 2 * b + c) += massFactor * m(p) * w[a] * w[b];
+      });
+  return out;
 }
 
 }  // namespace impm

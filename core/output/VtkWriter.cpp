@@ -11,6 +11,8 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
   auto x0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x0);
   auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.v);
+  auto u = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.u);  // fixed particles only
+  const bool fixed = ps.fixedPositions();
   auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.a);
   auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.stress);
   auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.mass);
@@ -37,7 +39,7 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
       for (int p = 0; p < n; ++p) f << get(p, 0) << ' ' << get(p, 1) << " 0\n";
       f << "</DataArray>\n";
     };
-    vec3("displacement", [&](int p, int d) { return x(p, d) - x0(p, d); });
+    vec3("displacement", [&](int p, int d) { return fixed ? u(p, d) : x(p, d) - x0(p, d); });
     vec3("velocity", [&](int p, int d) { return v(p, d); });
     vec3("acceleration", [&](int p, int d) { return a(p, d); });
     f << "<DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"4\" format=\"ascii\">\n";
