@@ -212,6 +212,14 @@ RCP<const ParameterList> validParameters() {
     im.set("Consistent Initial Acceleration", true,
            "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   }
+  {
+    ParameterList& p = valid->sublist("Initial Conditions", false, "initial particle state (default: at rest)");
+    choice(p, "Type", "None", {"None", "Standing Wave"},
+           "None: particles at rest; Standing Wave: zero displacement and v_x(X, 0) = Amplitude sin(Mode pi "
+           "(X - X Min) / L), L = the body's length (one mode of a bar fixed at both ends)");
+    number(p, "Amplitude", 0.0, "velocity amplitude V of the Standing Wave (m/s), non-zero");
+    p.set("Mode", 1, "mode number n >= 1 of the Standing Wave (n half-waves along the body)");
+  }
   valid->sublist("Implicit Solver", false,
                  "Newton solver of the implicit step (NOX, Belos, Ifpack2, Amesos2); validated by the solver, "
                  "see --print-defaults").disableRecursiveValidation();
@@ -222,12 +230,15 @@ RCP<const ParameterList> validParameters() {
       .disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Exact Solution", false, "exact solution for the monitors, if any");
-    choice(p, "Type", "None", {"None", "Bar Step Load", "Simply Supported Beam"},
+    choice(p, "Type", "None", {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave"},
            "Bar Step Load: 1D rod fixed at X Min under the step load named by Load at X Max; "
-           "Simply Supported Beam: Euler-Bernoulli beam under the harmonic point load named by Load");
+           "Simply Supported Beam: Euler-Bernoulli beam under the harmonic point load named by Load; "
+           "Bar Standing Wave: 1D rod fixed in x at both ends (Constraints on faces x- and x+), no loads, "
+           "started by Initial Conditions/Type = Standing Wave: u = (V/omega) sin(n pi X/L) sin(omega t), "
+           "omega = c n pi / L (displacement, velocity and stress XX)");
     choice(p, "Modulus", "Plane Condition", {"Plane Condition", "Young Modulus"},
            "modulus of the exact solution: Plane Condition = E in plane stress, E/(1-nu^2) in plane strain");
-    p.set("Load", "", "name of the load (in Loads) that the exact solution is driven by");
+    p.set("Load", "", "name of the load (in Loads) that the exact solution is driven by (not used by Bar Standing Wave)");
     choice(p, "Form", "Closed", {"Closed", "Series"}, "bar: d'Alembert closed form or Fourier series");
     p.set("Series Terms", 2000, "terms of the series");
     choice(p, "Beam Theory", "Euler-Bernoulli", {"Euler-Bernoulli", "Timoshenko"},

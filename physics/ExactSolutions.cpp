@@ -89,4 +89,19 @@ double BeamHarmonicExact::bendingStress(double x, double yFromNeutralAxis, doubl
   return -E * yFromNeutralAxis * curvature(x, t, terms);
 }
 
+// ---------------------------------------------------------------- standing wave in a fixed-fixed bar
+
+double BarStandingWaveExact::waveSpeed() const { return std::sqrt(E / rho); }
+double BarStandingWaveExact::omega() const { return waveSpeed() * n * kPi / L; }
+double BarStandingWaveExact::displacement(double x, double t) const {
+  return V / omega() * std::sin(n * kPi * x / L) * std::sin(omega() * t);
+}
+double BarStandingWaveExact::velocity(double x, double t) const {
+  return V * std::sin(n * kPi * x / L) * std::cos(omega() * t);
+}
+// E du/dx = E (V / omega) (n pi / L) cos(n pi x / L) sin(omega t) = E V / c cos(...) sin(omega t).
+double BarStandingWaveExact::stress(double x, double t) const {
+  return E * V / waveSpeed() * std::cos(n * kPi * x / L) * std::sin(omega() * t);
+}
+
 }  // namespace impm

@@ -31,4 +31,17 @@ struct BeamHarmonicExact {
   double bendingStress(double x, double yFromNeutralAxis, double t, int terms = 200) const;
 };
 
+// Free vibration of a rod fixed at both ends (x = 0 and x = L), started from zero displacement
+// with the velocity V sin(n pi x / L) (one standing-wave mode): u = (V / omega) sin(n pi x / L)
+// sin(omega t), omega = c n pi / L, c = sqrt(E / rho). Linear small-strain theory.
+struct BarStandingWaveExact {
+  double L, E, rho, V;  // E is the modulus the comparison uses (E or E/(1-nu^2)); caller decides
+  int n;
+  double waveSpeed() const;  // sqrt(E/rho)
+  double omega() const;      // c n pi / L
+  double displacement(double x, double t) const;
+  double velocity(double x, double t) const;
+  double stress(double x, double t) const;  // E du/dx
+};
+
 }  // namespace impm

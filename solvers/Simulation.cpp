@@ -16,6 +16,7 @@
 
 #include "core/InputDeck.hpp"
 #include "core/output/VtkWriter.hpp"
+#include "physics/InitialConditions.hpp"
 #include "solvers/ExplicitStepper.hpp"
 #include "solvers/ImplicitNewmark.hpp"
 
@@ -162,6 +163,20 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   particles_ = createParticles(body_, material_, *dist_);
   constraints_ = NodalConstraints(cspecs, body_, *dist_);
 
+  // Initial conditions, before the integrators (an implicit one computes a(0) from this state).
+  const ParameterList& ic = deck_.sublist("Initial Conditions");
+  const std::string icType = ic.get<std::string>("Type");
+  const double icAmplitude = ic.get<double>("Amplitude");
+  const int icMode = ic.get<int>("Mode");
+  if (icType == "Standing Wave") {
+    if (!(icAmplitude != 0.0 && std::isfinite(icAmplitude)))
+      throw DeckError("'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
+                      fmt(icAmplitude));
+    if (icMode < 1)
+      throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " + std::to_string(icMode));
+    applyStandingWaveVelocity(particles_, body_.xMin, body_.length(), icAmplitude, icMode);
+  }
+
   // Nearest particle to a point, over all ranks: (owner rank, local index, x0, y0).
   auto nearest = [&](double px, double py, int& owner, int& local, double& x0, double& y0) {
     auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
@@ -225,7 +240,22 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   exactSeries_ = e.get<std::string>("Form") == "Series";
   exactTerms_ = positiveInt(e, "Exact Solution", "Series Terms");
   exactModulus_ = e.get<std::string>("Modulus") == "Young Modulus" ? material_.E : material_.barModulus();
-  if (hasExact()) {
+  if (exactType_ == "Bar Standing Wave") {
+    // The exact solution holds for this initial state, both ends fixed in x and no loads.
+    if (icType != "Standing Wave")
+      throw DeckError("'Exact Solution/Type' = Bar Standing Wave needs 'Initial Conditions/Type' = Standing Wave, got " + icType);
+    if (!lspecs.empty())
+      throw DeckError("'Exact Solution/Type' = Bar Standing Wave is free vibration: the deck must have no Loads (found '" +
+                      lspecs.front().name + "')");
+    for (const std::string face : {"x-", "x+"}) {
+      bool fixed = false;
+      for (const auto& c : cspecs) fixed = fixed || (c.where == "Face" && c.face == face && c.fixX);
+      if (!fixed)
+        throw DeckError("'Exact Solution/Type' = Bar Standing Wave needs a constraint fixing x on face " + face +
+                        " of the body (Constraints: Where = Face, Face = " + face + ", Components = x or xy)");
+    }
+    wave_ = BarStandingWaveExact{body_.length(), exactModulus_, material_.density, icAmplitude, icMode};
+  } else if (hasExact()) {
     const std::string loadName = e.get<std::string>("Load");
     const LoadSpec* load = nullptr;
     for (const auto& s : lspecs) if (s.name == loadName) load = &s;
@@ -355,6 +385,11 @@ double Simulation::exactValue(const Monitor& mon, double t) const {
     const double x = mon.x0 - body_.xMin;
     if (q == "Displacement X") return exactSeries_ ? bar_.displacementSeries(x, t, exactTerms_) : bar_.displacementClosed(x, t);
     if (q == "Stress XX") return exactSeries_ ? bar_.stressSeries(x, t, exactTerms_) : bar_.stressClosed(x, t);
+  } else if (exactType_ == "Bar Standing Wave") {
+    const double x = mon.x0 - body_.xMin;
+    if (q == "Displacement X") return wave_.displacement(x, t);
+    if (q == "Velocity X") return wave_.velocity(x, t);
+    if (q == "Stress XX") return wave_.stress(x, t);
   } else if (exactType_ == "Simply Supported Beam") {
     const double x = mon.x0 - body_.xMin;
     const int terms = std::min(exactTerms_, 400);
@@ -523,6 +558,7 @@ void Simulation::writeSummary(const RunResult& r) const {
       s.set("Exact Beam Theory", timoshenko_ ? std::string("Timoshenko") : std::string("Euler-Bernoulli"));
       s.set("Exact Time Discretisation", newmarkHistory_.empty() ? std::string("Exact") : std::string("Newmark"));
     }
+    if (exactType_ == "Bar Standing Wave") s.set("Exact Angular Frequency", wave_.omega());
     ParameterList& err = s.sublist("Relative L2 Error");
     for (const auto& [name, e] : r.relativeL2) err.set(name, e);
   }

@@ -83,6 +83,7 @@ class Simulation {
   std::string exactType_ = "None";
   double exactModulus_ = 0;
   BarStepExact bar_{};
+  BarStandingWaveExact wave_{};
   BeamHarmonicExact beam_{};
   bool timoshenko_ = false;
   TimoshenkoBeamHarmonic timo_{};

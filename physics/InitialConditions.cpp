@@ -1,0 +1,19 @@
+#include "physics/InitialConditions.hpp"
+
+#include <cmath>
+
+namespace impm {
+
+void applyStandingWaveVelocity(ParticleSet& particles, double xMin, double length, double amplitude, int mode) {
+  const double k = mode * std::acos(-1.0) / length;
+  auto x0 = particles.x0;
+  auto v = particles.v;
+  Kokkos::parallel_for(
+      "standing_wave_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, particles.count), KOKKOS_LAMBDA(int p) {
+        v(p, 0) = amplitude * std::sin(k * (x0(p, 0) - xMin));
+        v(p, 1) = 0.0;
+      });
+  Kokkos::fence();
+}
+
+}  // namespace impm
