@@ -315,10 +315,11 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
   // Blocks of the ghost region (cells, Q9 elements or GIMP 3 x 3 node patches), numbered
   // locally column by column; each couples the free dofs of its nodes.
-  const int bn = blockNodes_, stride = blockStride_, nd = 2 * bn * bn;
+  const int bnx = std::min(blockNodes_, g.nx + 1), bny = std::min(blockNodes_, g.ny + 1);
+  const int stride = blockStride_, nd = 2 * bnx * bny;
   const int firstBi = ((gix.colBegin + stride - 1) / stride) * stride;
-  const int blockCols = gix.colEnd - bn >= firstBi ? (gix.colEnd - bn - firstBi) / stride + 1 : 0;
-  const int blockRows = (g.ny + 1 - bn) / stride + 1;
+  const int blockCols = gix.colEnd - bnx >= firstBi ? (gix.colEnd - bnx - firstBi) / stride + 1 : 0;
+  const int blockRows = (g.ny + 1 - bny) / stride + 1;
   auto blockIndex = [&](int bi, int bj) { return size_t((bi - firstBi) / stride) * blockRows + bj / stride; };
   // Visits every (local block, r, c) coupling of two free dofs of a block.
   auto forEachBlockCoupling = [&](auto&& visit) {
@@ -327,8 +328,8 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
     for (int ci = 0; ci < blockCols; ++ci)
       for (int cj = 0; cj < blockRows; ++cj) {
         const int bi = firstBi + ci * stride, bj = cj * stride;
-        for (int a = 0; a < bn * bn; ++a) {
-          const int ln = gix(bi + a % bn, bj + a / bn);
+        for (int a = 0; a < bnx * bny; ++a) {
+          const int ln = gix(bi + a % bnx, bj + a / bnx);
           for (int d = 0; d < 2; ++d) {
             gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
             freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;

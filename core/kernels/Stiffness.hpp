@@ -10,7 +10,7 @@
 //    gradients; the FE reference's particles are Gauss points with their weights as volumes);
 //    for GIMP it uses the averaged gradients and is then the exact derivative of the GIMP
 //    internal force (the seed's integrated stiffness is not). Block = the stencil's nodes.
-// Local dof of block node (a, b): 2 (a + blockNodes b) + component.
+// Local dof of block node (a, b): 2 (a + blockNodesX b) + component.
 #pragma once
 
 #include "core/ParticleCellPairs.hpp"
@@ -22,10 +22,10 @@ namespace impm {
 // Per entry: the block's first node (i, j) and its dense matrix over the block's dofs.
 struct BlockMatrices {
   int count = 0;
-  int blockNodes = 2;  // nodes per direction of a block
+  int blockNodesX = 2, blockNodesY = 2;  // nodes per direction of a block
   Kokkos::View<int* [2], Kokkos::LayoutRight, DeviceType> origin;
   Kokkos::View<double***, Kokkos::LayoutRight, DeviceType> K;
-  int dofs() const { return 2 * blockNodes * blockNodes; }
+  int dofs() const { return 2 * blockNodesX * blockNodesY; }
 };
 
 namespace detail {
@@ -49,7 +49,7 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
                                const LinearElastic& mat) {
   BlockMatrices out;
   out.count = pairs.count;
-  out.blockNodes = 2;
+  out.blockNodesX = out.blockNodesY = 2;
   out.origin = pairs.cell;
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
   auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
@@ -84,17 +84,20 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
   return out;
 }
 
-// Blocks are Shape::max_nodes_1d nodes wide; a stencil shorter than that (GIMP near a cell
-// line) sits inside the block, which is shifted to stay inside the grid. With massFactor c > 0
+// Blocks are Shape::max_nodes_1d nodes wide (fewer on a grid with fewer node lines); a stencil
+// shorter than that (GIMP near a cell line) sits inside the block, which is shifted to stay
+// inside the grid. With massFactor c > 0
 // the block also gets c times the particle's consistent mass, c m_p S_ap S_bp per component.
 template <class ExecSpace, class Shape>
 BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const LinearElastic& mat,
                                double massFactor = 0.0) {
   constexpr int bn = Shape::max_nodes_1d;
-  constexpr int nd = 2 * bn * bn;
+  const int bnx = bn < g.nx + 1 ? bn : g.nx + 1, bny = bn < g.ny + 1 ? bn : g.ny + 1;
+  const int nd = 2 * bnx * bny;
   BlockMatrices out;
   out.count = ps.count;
-  out.blockNodes = bn;
+  out.blockNodesX = bnx;
+  out.blockNodesY = bny;
   out.origin = decltype(out.origin)("stencil_block_origin", ps.count);
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("stencil_stiffness", ps.count, nd, nd);
   auto O = out.origin; auto K = out.K;
@@ -103,25 +106,25 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
   Kokkos::parallel_for(
       "stencil_stiffness", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-        const int bi = st.i0 < g.nx + 1 - bn ? st.i0 : g.nx + 1 - bn;
-        const int bj = st.j0 < g.ny + 1 - bn ? st.j0 : g.ny + 1 - bn;
+        const int bi = st.i0 < g.nx + 1 - bnx ? st.i0 : g.nx + 1 - bnx;
+        const int bj = st.j0 < g.ny + 1 - bny ? st.j0 : g.ny + 1 - bny;
         O(p, 0) = bi;
         O(p, 1) = bj;
         double gx[bn * bn], gy[bn * bn], w[bn * bn];
         for (int n = 0; n < bn * bn; ++n) gx[n] = gy[n] = w[n] = 0.0;
         for (int a = 0; a < st.countX(); ++a)
           for (int b = 0; b < st.countY(); ++b) {
-            const int n = (st.i0 + a - bi) + bn * (st.j0 + b - bj);
+            const int n = (st.i0 + a - bi) + bnx * (st.j0 + b - bj);
             gx[n] = st.gradX(a, b);
             gy[n] = st.gradY(a, b);
             w[n] = st.weight(a, b);
           }
         for (int r = 0; r < nd; ++r)
           for (int c = 0; c < nd; ++c) K(p, r, c) = 0.0;
-        detail::addBtDB(K, p, bn * bn, gx, gy, V(p), c11, c12, c33);
+        detail::addBtDB(K, p, bnx * bny, gx, gy, V(p), c11, c12, c33);
         if (massFactor > 0.0)
-          for (int a = 0; a < bn * bn; ++a)
-            for (int b = 0; b < bn * bn; ++b)
+          for (int a = 0; a < bnx * bny; ++a)
+            for (int b = 0; b < bnx * bny; ++b)
               for (int c = 0; c < 2; ++c) K(p, 2 * a + c, 2 * b + c) += massFactor * m(p) * w[a] * w[b];
       });
   return out;
