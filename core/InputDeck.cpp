@@ -193,7 +193,8 @@ RCP<const ParameterList> validParameters() {
           "0 = the classic lumped projection p/m, which smooths the velocity field by M_L^-1 M_C every step "
           "and about triples the lumped-mass wave dispersion; 1 removes that to O((kh)^4)");
     number(e, "Stability Factor", 1.0,
-           "dt must not exceed this factor times (smallest cell size) / (P-wave speed)");
+           "dt must not exceed this factor times 1 / (P-wave speed sqrt(1/hx^2 + 1/hy^2)), the critical step of "
+           "lumped bilinear cells");
     ParameterList& im = p.sublist("Implicit", false, "implicit integrator options");
     im.set("Maximum Step Halvings", 4, "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
     im.set("Consistent Projection Iterations", 0,
