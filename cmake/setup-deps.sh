@@ -21,7 +21,7 @@ if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 
 # Debian packages: compilers, MPI, BLAS/LAPACK, build tools and the plotting stack.
 PACKAGES=(build-essential cmake ninja-build pkg-config libopenmpi-dev openmpi-bin
-          libblas-dev liblapack-dev python3 python3-matplotlib python3-numpy ca-certificates)
+          libblas-dev liblapack-dev python3 python3-matplotlib python3-numpy python3-yaml ca-certificates)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,124 @@
+"""The targets that --check asserts, each a PASS/FAIL line with its numbers."""
+import math
+import os
+
+import decks
+from cases import EXPLICIT_DT_FRACTION, GRIDS, STABLE_USER_DECK
+
+# Problem 1: each method's error of u_x(L, t) and u_x(L/2, t) may be at most this multiple of the
+# error of a 1D lumped-mass rod model with the seed's 30 cells along the bar (analysis.bar_fe1d),
+# computed at the same dt, window, monitored point and modulus. Every method here resolves the
+# bar at least as finely as 30 linear elements; what limits all of them is the dispersion of the
+# step front on that resolution, which the 1D model measures. The factor 2 leaves room for the 2D
+# effects (Poisson coupling at the loaded face, particle quadrature) and for mass lumping or
+# projection differences between the methods, while still catching an error that is a few times
+# too large (a wrong modulus shifts the front by 5%, which fails at any window length).
+BAR_TOLERANCE_FACTOR = 2.0
+BAR_CHECKED_MONITORS = ("ux_L", "ux_half")
+NEWMARK_ORDER_RANGE = (1.8, 2.2)
+BUDGET_CLOSURE_MAX = 0.01
+SUMMARY_AGREEMENT = 1e-6
+NEWMARK_ASSERTED = ("FE Q4", "implicit MPM, consistent mass")
+NEWMARK_NOT_ASSERTED = {
+    ("bar", "implicit MPM"): "lumped-mass (Guilkey-Weiss) particle update, not one trapezoidal rule with the residual; compare the consistent-mass variant",
+    ("bar", "implicit GIMP"): "lumped-mass (Guilkey-Weiss) particle update, not one trapezoidal rule with the residual; compare the consistent-mass variant",
+    ("bar", "FE Q9"): "not yet in the asymptotic range at these dt",
+    "bar": "see the report",
+    "beam": "pre-asymptotic; compare the Newmark modal series in the report",
+}
+
+
+class Check:
+    """One target: passed True/False, or None for a figure that is reported but not asserted (INFO)."""
+    def __init__(self, name, passed, detail):
+        self.name, self.passed, self.detail = name, passed, detail
+
+    @property
+    def failed(self):
+        return self.passed is False
+
+    def line(self):
+        tag = "INFO" if self.passed is None else ("PASS" if self.passed else "FAIL")
+        return f"{tag}  {self.name}: {self.detail}"
+
+
+def _finite(*v):
+    return all(x is not None and math.isfinite(x) for x in v)
+
+
+def evaluate(results):
+    checks = []
+    # Problem 1, every method and plane condition.
+    for (problem, method, plane), entry in sorted(results["main"].items()):
+        if problem != "bar":
+            continue
+        run = entry["run"]
+        if not run.ok:
+            checks.append(Check(f"Problem 1 {method}, {plane.lower()}", False, f"run failed: {run.message}"))
+            continue
+        for mon in BAR_CHECKED_MONITORS:
+            e, ref = entry["errors"][mon], entry["fe1d"][mon]
+            tol = BAR_TOLERANCE_FACTOR * ref
+            ok = _finite(e, tol) and e <= tol
+            checks.append(Check(f"Problem 1 {method}, {plane.lower()}, {mon}", ok,
+                                f"relative L2 error {100 * e:.3f}% <= {100 * tol:.3f}% "
+                                f"({BAR_TOLERANCE_FACTOR:g} x the 1D {GRIDS[('bar', 'MPM')][0]}-element model's {100 * ref:.3f}%)"))
+    # Newmark: self-convergence in dt (finest pair). Asserted where the discretisation is
+    # Newmark's rule applied to a semi-discrete system whose spectrum the dt resolves (FE Q4 and
+    # consistent-mass MPM on the bar); the other series are reported (see the report's text).
+    lo, hi = NEWMARK_ORDER_RANGE
+    for st in results["studies"]:
+        s = st["study"]
+        if s.kind != "dt":
+            continue
+        for method, per_mon in st["selfconv"].items():
+            for mon, (diffs, ords, _) in per_mon.items():
+                o = ords[-1] if ords else float("nan")
+                asserted = s.key == "bar_dt" and method in NEWMARK_ASSERTED
+                passed = (_finite(o) and lo <= o <= hi) if asserted else None
+                why = "" if asserted else f" (reported, not asserted: {NEWMARK_NOT_ASSERTED.get((s.problem, method), NEWMARK_NOT_ASSERTED[s.problem])})"
+                checks.append(Check(f"Newmark self-convergence order, {s.problem} {method}, {mon}", passed,
+                                    f"log2(d_k/d_k+1) = {o:.3f}" + (f" in [{lo}, {hi}]" if asserted else "")
+                                    + f" (d = {', '.join(f'{d:.3e}' for d in diffs)})" + why))
+    # Budget closure.
+    for method, b in results["budget"].items():
+        if isinstance(b, str):
+            checks.append(Check(f"Problem 2 budget closure, {method}", False, b))
+            continue
+        aligned = b["rows_used"] == b["rows_model"]
+        ok = _finite(b["closure"]) and b["closure"] <= BUDGET_CLOSURE_MAX and aligned
+        checks.append(Check(f"Problem 2 budget closure, {method}", ok,
+                            f"||e_total - sum d_k|| / ||e_total|| = {b['closure']:.2e} <= {BUDGET_CLOSURE_MAX:g}; "
+                            f"shares sum to {b['share_sum']:.6f}; every computation has all {b['rows_model']} rows of M"
+                            + ("" if aligned else f" (only {b['rows_used']} in common)")))
+    # Every run of the report completed.
+    failed = [r for r in results["all_runs"] if not r.ok]
+    checks.append(Check("every run completed", not failed, f"{len(results['all_runs']) - len(failed)} of "
+                        f"{len(results['all_runs'])}" + "".join(f"; {r.case.name}: {r.message}" for r in failed)))
+    # The user deck of the explicit beam near the stable step follows the report's rule.
+    try:
+        d = decks.load(os.path.join(results["repo"], STABLE_USER_DECK))
+        dt = float(decks.get(d, "Integrator/Time Step"))
+        steps = int(decks.get(d, "Integrator/Number of Steps"))
+        want = EXPLICIT_DT_FRACTION * decks.stable_time_step(d)
+        ok = abs(dt / want - 1) <= 1e-4 and steps * dt >= 1.0 > (steps - 1) * dt
+        checks.append(Check(f"{STABLE_USER_DECK}", ok, f"dt = {dt:.6g} s = {dt / want * EXPLICIT_DT_FRACTION:.5f} x impm's "
+                            f"stable limit {want / EXPLICIT_DT_FRACTION:.5g} s (want {EXPLICIT_DT_FRACTION:g}); "
+                            f"{steps} steps reach {steps * dt:.5g} s"))
+    except (OSError, KeyError, TypeError, ValueError) as e:
+        checks.append(Check(f"{STABLE_USER_DECK}", False, f"cannot read: {e}"))
+    # Our recomputation of impm's errors from history.csv matches summary.yaml.
+    worst, where = 0.0, ""
+    for run in results["all_runs"]:
+        if not run.ok:
+            continue
+        for mon, e_impm in (run.summary.get("Relative L2 Error") or {}).items():
+            e = results["recomputed"][run.case.name].get(mon)
+            if e is None or not _finite(e, float(e_impm)):
+                continue
+            dev = abs(e - float(e_impm)) / max(abs(float(e_impm)), 1e-300)
+            if dev > worst:
+                worst, where = dev, f"{run.case.name}/{mon}"
+    checks.append(Check("errors recomputed from history.csv agree with summary.yaml", worst <= SUMMARY_AGREEMENT,
+                        f"largest relative difference {worst:.1e} <= {SUMMARY_AGREEMENT:g}" + (f" ({where})" if where else "")))
+    return checks
