@@ -18,7 +18,7 @@ UNITS = {"ux_L": "m", "ux_half": "m", "sxx_half": "Pa", "w_mid": "m"}
 
 def _save(fig, path):
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
@@ -105,8 +105,13 @@ def refinement(study, table, path):
     _save(fig, path)
 
 
-def self_convergence(study, diffs, path):
+def self_convergence(study, diffs, path, reference=None):
+    """Differences between successive halvings of dt, with the Newmark modal series for reference."""
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for (label, ref), ls in zip((reference or {}).items(), ("--", ":")):
+        if isinstance(ref, str):
+            continue
+        ax.loglog(np.array(study.factors[1:], dtype=float), ref[0], color="k", ls=ls, marker="x", lw=1, label=label)
     for m, per_mon in diffs.items():
         for mon, d in per_mon.items():
             d = np.array(d, dtype=float)
@@ -116,7 +121,12 @@ def self_convergence(study, diffs, path):
                 continue
             ax.loglog(x[ok], d[ok], marker="o", color=COLORS.get(m, "k"), lw=1, label=f"{m} {MONITOR_LABELS[mon]}")
     x = np.array(study.factors[1:], dtype=float)
-    ax.loglog(x, 1e-3 * (x[0] / x) ** 2, "k:", lw=1, label="slope 2")
+    first = [v[0] for per in diffs.values() for v in per.values() if len(v) and np.isfinite(v[0])]
+    if first:
+        ax.loglog(x, max(first) * 2 * (x[0] / x) ** 2, color="gray", lw=1, label="slope 2")
+    ax.set_xticks(x)
+    ax.set_xticklabels([str(int(v)) for v in x])
+    ax.minorticks_off()
     ax.set_xlabel("finer run of the pair: dt divided by")
     ax.set_ylabel("||w(dt) - w(dt/2)|| / ||w(dt/2)||")
     ax.grid(alpha=0.3, which="both")

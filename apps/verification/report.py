@@ -3,6 +3,7 @@ import math
 import os
 
 from cases import EXPLICIT_DT_FRACTION, GRIDS, METHODS, MONITOR_LABELS, MONITORS, PLANES, STABLE_USER_DECK
+from analysis import rel_l2
 import checks as checks_mod
 import decks
 
@@ -72,6 +73,22 @@ def first_mode(deck):
     b = deck["impm"]["Body"]
     L, h = float(b["X Max"]) - float(b["X Min"]), float(b["Y Max"]) - float(b["Y Min"])
     return (math.pi / L) ** 2 * math.sqrt(E * h ** 2 / 12 / rho)
+
+
+def beam_floor_text(results, study):
+    """What a converged 2D solution still differs from Euler-Bernoulli (E') by, from the budget."""
+    b = next((b for b in results["budget"].values() if not isinstance(b, str)), None)
+    if b is None:
+        return ""
+    v = b["values"]
+    keep = b["times"] <= study.t_end * (1 + 1e-9)
+    floor = rel_l2(v["timo_Eprime_newmark"][keep], v["eb_Eprime"][keep])
+    fine = rel_l2(v["fe_fine"][keep], v["eb_Eprime"][keep]) if "fe_fine" in v else float("nan")
+    return ("The reference is Euler-Bernoulli at E'; a converged 2D solution keeps the shear/rotary-inertia "
+            f"difference: Timoshenko (E', Newmark at the seed's dt) differs from it by {pct(floor)}, and the fine FE Q9 "
+            f"run of the budget by {pct(fine)} (both at M's monitored x, over this window). FE Q9 sits at that level from "
+            "the coarsest grid. An error below it is not more accuracy but a cancellation: the stiffening that remains "
+            "on a refined bilinear grid (locking) offsets part of the softening by shear and rotary inertia.")
 
 
 def write(results, path, image_dir, meta):
@@ -210,6 +227,9 @@ def write(results, path, image_dir, meta):
                 rows.append([m, MONITOR_LABELS[mon]] + [pct(e) for e in errs] + [order(o) for o in ords])
         add(table(header, rows))
         add("")
+        if s.kind == "grid" and s.problem == "beam":
+            add(beam_floor_text(results, s))
+            add("")
         if s.kind == "grid":
             grids = "; ".join(f"{m}: " + ", ".join(grid_text(c).split(",")[0] for c in runs) for m, runs in s.series.items())
             add(f"Grids: {grids}.")
@@ -326,7 +346,9 @@ def write(results, path, image_dir, meta):
         f"{' and '.join(checks_mod.NEWMARK_ASSERTED)} on the bar (every monitor); the other series are INFO lines "
         "(section 2 says why).")
     add(f"- `{STABLE_USER_DECK}` has dt = {EXPLICIT_DT_FRACTION:g} of impm's stable limit and reaches t = 1 s.")
-    add(f"- Budget closure <= {checks_mod.BUDGET_CLOSURE_MAX:.0%} for every M.")
+    add(f"- Budget closure <= {checks_mod.BUDGET_CLOSURE_MAX:.0%} for every M, with every computation of the chain "
+        "present at every history row of M.")
+    add("- Every run of the report completed.")
     add("- The errors recomputed here from history.csv agree with impm's summary.yaml.")
     add("")
     add("```")

@@ -169,7 +169,7 @@ def make_plots(res, image_dir):
         plots.refinement(s, st["errors"], os.path.join(image_dir, f"{s.key}.png"))
         if s.kind == "dt":
             diffs = {m: {mon: v[0] for mon, v in per.items()} for m, per in st["selfconv"].items()}
-            plots.self_convergence(s, diffs, os.path.join(image_dir, f"{s.key}_self.png"))
+            plots.self_convergence(s, diffs, os.path.join(image_dir, f"{s.key}_self.png"), st.get("reference"))
     labels = {name: what for name, what, _ in analysis.BUDGET_LINKS}
     for m, b in res["budget"].items():
         if isinstance(b, str):
