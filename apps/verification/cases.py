@@ -68,7 +68,6 @@ class Case:
     deck: dict
     refine: int = 1
     dt_div: int = 1
-    note: str = ""
 
     @property
     def dt(self):
@@ -210,7 +209,6 @@ class Budget:
     models: dict          # method -> Case (Exact Solution/Modulus: Young Modulus)
     fe_fine: Case         # FE Q9 on a fine grid, same dt
     fe_same: Case         # FE Q9 on the seed's 40 x 4 grid
-    fine_refine: int
 
 
 @dataclass
@@ -295,6 +293,5 @@ def build_plan(repo, caps, reduced):
     fe_same = mk("beam", "FE Q9", "Plane Strain", t_end=t_end, exact_modulus="Young Modulus")
     fe_fine = mk("beam", "FE Q9", "Plane Strain", refine=fine, t_end=t_end, exact_modulus="Young Modulus",
                  fast_solver=True)
-    budget = Budget(t_end=t_end if t_end else 1.0, models=models, fe_fine=fe_fine, fe_same=fe_same,
-                    fine_refine=fine)
+    budget = Budget(t_end=t_end if t_end else 1.0, models=models, fe_fine=fe_fine, fe_same=fe_same)
     return Plan(reduced=reduced, main=main, main_t_end=main_end, studies=studies, budget=budget, caps=caps)
