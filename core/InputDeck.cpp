@@ -199,7 +199,8 @@ RCP<const ParameterList> validParameters() {
     im.set("Maximum Step Halvings", 4, "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
     im.set("Consistent Projection Iterations", 0,
            "Jacobi iterations towards the consistent-mass projection of particle velocity and acceleration to "
-           "the grid (0: lumped projection; see Integrator/Explicit)");
+           "the grid (0: lumped projection; see Integrator/Explicit); not used with Mass Matrix: Consistent, "
+           "whose residual needs no projection");
     im.set("Preconditioner Refresh Interval", 1,
            "steps between numeric refactorisations of the Ifpack2 preconditioner (1: every step); its factors "
            "of a slightly older P remain a good preconditioner while the particles move little");

@@ -117,7 +117,9 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
             s(n, st::AccX + d) = m * k(n, 2 + d);
           }
         });
-  } else if (!initialAcceleration) {
+  } else if (!initialAcceleration && !opt_.consistentMass) {
+    // (The consistent-mass residual works on the particle momentum sums themselves: it needs
+    // no projection correction, and with one the particles were seen to leave the grid.)
     correctProjection();
   }
   {
