@@ -29,6 +29,7 @@ sys.path.insert(0, HERE)
 import analysis  # noqa: E402
 import cases  # noqa: E402
 import checks  # noqa: E402
+import crossing  # noqa: E402
 import decks  # noqa: E402
 import plots  # noqa: E402
 import report  # noqa: E402
@@ -199,6 +200,11 @@ def main(argv=None):
     plan = cases.build_plan(REPO, caps, args.reduced)
     runs = run_all(plan, runner)
     res = compute(plan, runner, runs)
+    crossing_cases = crossing.plan(REPO)
+    for i, c in enumerate(crossing_cases, 1):
+        runner.run(c, i, len(crossing_cases))
+    cross = crossing.compute(runner.runs, crossing_cases)
+    res["checks"].extend(cross["checks"])
 
     os.makedirs(image_dir, exist_ok=True)
     make_plots(res, image_dir)
@@ -228,6 +234,8 @@ def main(argv=None):
         pass
     os.makedirs(os.path.dirname(doc), exist_ok=True)
     report.write(res, doc, image_dir, meta)
+    with open(doc, "a") as f:
+        f.write("\n" + "\n".join(crossing.markdown(cross)) + "\n")
     print(f"verification_report: wrote {os.path.relpath(doc, os.getcwd())} and {len(os.listdir(image_dir))} figures "
           f"in {os.path.relpath(image_dir, os.getcwd())}; {meta['runs']} runs ({meta['reused']} reused, "
           f"{meta['failed']} failed), {meta['elapsed']:.0f} s")
