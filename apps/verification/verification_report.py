@@ -151,7 +151,25 @@ def compute(plan, runner, runs):
         budgets[m] = out
     res["budget"] = budgets
     res["checks"] = checks.evaluate(res)
+    res["checks"].extend(problem1_within_one_percent(res))
     return res
+
+
+def problem1_within_one_percent(res):
+    """Issue 4's target: every method within 1% relative L2 on u_x(L, t) and u_x(L/2, t) of Problem 1,
+    at the seed's settings or at a documented refinement (the bar grid study, full window)."""
+    out = []
+    grid = next((st for st in res["studies"] if st["study"].key == "bar_grid"), None)
+    if grid is None:
+        return out
+    for m, errs in grid["errors"].items():
+        for mon in ("ux_L", "ux_half"):
+            e = errs[mon]
+            k = next((i for i, v in enumerate(e) if math.isfinite(v) and v <= 0.01), None)
+            detail = ", ".join(f"x{f}: {100 * v:.3g}%" for f, v in zip(grid["study"].factors, e))
+            out.append(checks.Check(f"Problem 1 within 1%, {m}, {mon}", k is not None,
+                                    f"{detail} (first within 1%: " + (f"x{grid['study'].factors[k]})" if k is not None else "none)")))
+    return out
 
 
 def make_plots(res, image_dir):
