@@ -88,14 +88,21 @@ int main(int argc, char** argv) {
     auto deck = impm::readDeck(deckPath);
     impm::validateDeck(*deck);
     using Teuchos::ParameterList;
-    const ParameterList& mat = deck->sublist("Material");
-    const ParameterList& body = deck->sublist("Body");
+    // The beam is the first body, of its own material (the single-body form reads as these).
+    const ParameterList& bodies = deck->sublist("Bodies");
+    if (bodies.numParams() == 0) throw impm::DeckError("'Bodies' is empty");
+    const ParameterList& body = bodies.sublist(bodies.name(bodies.begin()));
+    const ParameterList& materials = deck->sublist("Materials");
+    if (!materials.isSublist(body.get<std::string>("Material")))
+      throw impm::DeckError("'Bodies/" + bodies.name(bodies.begin()) + "/Material' names no entry of Materials");
+    const ParameterList& mat = materials.sublist(body.get<std::string>("Material"));
+    const ParameterList& grid = deck->sublist("Grid");
     const ParameterList& integ = deck->sublist("Integrator");
     const ParameterList& ex = deck->sublist("Exact Solution");
 
     const double E = mat.get<double>("Young Modulus"), nu = mat.get<double>("Poisson Ratio");
-    const double rho = mat.get<double>("Density"), thickness = mat.get<double>("Thickness");
-    const bool planeStrain = mat.get<std::string>("Plane Condition") == "Plane Strain";
+    const double rho = mat.get<double>("Density"), thickness = grid.get<double>("Thickness");
+    const bool planeStrain = grid.get<std::string>("Plane Condition") == "Plane Strain";
     const double xMin = body.get<double>("X Min"), L = body.get<double>("X Max") - xMin;
     const double depth = body.get<double>("Y Max") - body.get<double>("Y Min");
     const double dt = integ.get<double>("Time Step");

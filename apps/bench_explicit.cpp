@@ -41,12 +41,12 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   LinearElastic mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStress};
   RectangularBody body{0.0, 1.0, 0.0, 5e-3, 5, 5, 1e-3};
   ParticleSet ps = createParticles(body, mat, dist);
-  NodalConstraints bc({ConstraintSpec{"left", "Face", "x-", 0, 0, true, false}}, body, dist);
-  LoadSpec load{"end", "Face Traction", "x+", 0, 0, 1.0, 0.0, TimeFunction{}};
-  LoadSet loads({load}, body, dist, {-1});
+  NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
+  const LoadSpec load = LoadSpec::faceTraction("end", body, "x+", 1.0, 0.0);
+  LoadSet loads({load}, dist, {-1}, 1);
   ExplicitOptions opt;
   ExplicitStepper<Shape> stepper(ps, dist, mat, bc, loads, opt);
-  const double dt = 0.2 * g.hx / mat.pWaveSpeed();
+  const double dt = 0.2 * g.hx / mat.pWaveSpeed(0);
   for (int n = 0; n < 5; ++n) stepper.step(n * dt, dt);  // warm-up (first-touch, allocations)
   Kokkos::fence();
   const long rss1 = residentKiB();

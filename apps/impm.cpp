@@ -11,21 +11,25 @@
 //
 // Options:
 //   --output DIR        override the deck's Problem/Output Directory
+//   --timers            time the main phases (Teuchos::TimeMonitor): a table at the end of the
+//                       run, and the totals in summary.yaml (Timers)
 //   --help              usage and every valid parameter with its documentation
 //   --print-defaults    every valid parameter with its default, as YAML
 #include <Tpetra_Core.hpp>
 
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <string>
 
 #include "core/InputDeck.hpp"
+#include "core/PhaseTimer.hpp"
 #include "solvers/NewtonSolver.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {
 void usage(std::ostream& os) {
-  os << "usage: impm DECK.{yaml,xml} [--output DIR]\n"
+  os << "usage: impm DECK.{yaml,xml} [--output DIR] [--timers]\n"
         "       impm --help | --print-defaults\n";
 }
 }  // namespace
@@ -52,7 +56,9 @@ int main(int argc, char** argv) {
   std::string deckPath, outputDir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--output") {
+    if (a == "--timers") {
+      impm::PhaseTimer::enabled() = true;
+    } else if (a == "--output") {
       if (i + 1 >= argc) { if (root) std::cerr << "impm: error: --output needs a directory\n"; return 2; }
       outputDir = argv[++i];
     } else if (a.rfind("--", 0) == 0) {
@@ -72,6 +78,20 @@ int main(int argc, char** argv) {
     impm::validateDeck(*deck);
     impm::Simulation sim(*deck, comm, outputDir);
     sim.run(std::cout);
+    if (impm::PhaseTimer::enabled()) {
+      // Collective; the table is printed by rank 0. Only impm's phases (NOX, Belos keep their own).
+      Teuchos::TimeMonitor::summarize(comm.ptr(), std::cout, false, true, false, Teuchos::Union, "impm:");
+    }
+    // plot.png: computed against exact for each monitor, and the energies when recorded.
+    const auto& out = deck->sublist("Output");
+    if (root && out.get<bool>("Plot") && (sim.hasExact() || out.get<bool>("Energy And Momentum"))) {
+      const char* env = std::getenv("IMPM_PLOT_SCRIPT");
+      const std::string script = env ? env : IMPM_PLOT_SCRIPT;
+      const std::string title = deck->sublist("Problem").get<std::string>("Name");
+      const std::string cmd = "/usr/bin/python3 '" + script + "' '" + sim.outputDirectory() + "' --title '" + title + "'";
+      if (std::system(cmd.c_str()) != 0) std::cout << "  warning: the plot could not be written (" << cmd << ")\n";
+      else std::cout << "  plot: " << sim.outputDirectory() << "/plot.png\n";
+    }
   } catch (const impm::DeckError& e) {
     if (root) std::cerr << "impm: error in deck '" << deckPath << "': " << e.what() << "\n";
     return 2;

@@ -5,7 +5,8 @@ Usage: /usr/bin/python3 apps/plot_history.py OUTDIR [--title TITLE]
 
 Reads OUTDIR/history.csv (header row; first column `time`; each monitored quantity `q` may be
 followed by `q_exact`) and writes OUTDIR/plot.png: one subplot per quantity on a shared time
-axis, computed solid and exact dashed. Exits non-zero with one message on stderr if the CSV is
+axis, computed solid and exact dashed, then one panel with the kinetic, strain and total energy
+and one with the linear momentum when history.csv has them. Exits non-zero with one message on stderr if the CSV is
 missing or malformed.
 """
 import argparse
@@ -23,6 +24,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 class HistoryError(Exception):
     pass
+
+
+ENERGY = ("kinetic_energy", "strain_energy", "total_energy")
+MOMENTUM = ("momentum_x", "momentum_y")
 
 
 def read_history(path):
@@ -57,11 +62,22 @@ def read_history(path):
 
 
 def plot(names, columns, title, out_png):
-    # A quantity is every non-time column that is not itself someone's `_exact` partner.
-    quantities = [n for n in names[1:] if not (n.endswith("_exact") and n[: -len("_exact")] in columns)]
+    # A quantity is every non-time column that is not itself someone's `_exact` partner; the
+    # energy and momentum columns (Output/Energy And Momentum) share one panel each.
+    groups = [g for g in (ENERGY, MOMENTUM) if all(c in columns for c in g)]
+    grouped = {c for g in groups for c in g}
+    quantities = [n for n in names[1:]
+                  if not (n.endswith("_exact") and n[: -len("_exact")] in columns) and n not in grouped]
     t = columns["time"]
-    fig, axes = plt.subplots(len(quantities), 1, sharex=True, squeeze=False,
-                             figsize=(8, 2.6 * len(quantities) + 0.8))
+    panels = len(quantities) + len(groups)
+    fig, axes = plt.subplots(panels, 1, sharex=True, squeeze=False, figsize=(8, 2.6 * panels + 0.8))
+    for ax, g in zip(axes[len(quantities):, 0], groups):
+        for c in g:
+            ax.plot(t, columns[c], "-", label=c)
+        ax.set_ylabel("energy" if g is ENERGY else "momentum")
+        ax.grid(True, alpha=0.3)
+        ax.ticklabel_format(axis="both", style="sci", scilimits=(-3, 3))
+        ax.legend(loc="best", fontsize="small")
     for ax, q in zip(axes[:, 0], quantities):
         ax.plot(t, columns[q], "-", label=f"{q} (computed)")
         exact = q + "_exact"

@@ -32,7 +32,7 @@ void choice(ParameterList& pl, const std::string& key, const std::string& def,
   pl.set(key, def, doc, rcp(new Teuchos::StringValidator(Teuchos::Array<std::string>(values.begin(), values.end()))));
 }
 
-const std::set<std::string> kCollections = {"Constraints", "Loads", "Monitors"};
+const std::set<std::string> kCollections = {"Materials", "Bodies", "Constraints", "Loads", "Monitors"};
 // Sublists handed unchanged to Trilinos packages, which validate them themselves.
 const std::set<std::string> kPassThrough = {"Implicit Solver"};
 
@@ -103,23 +103,61 @@ void checkList(const ParameterList& deck, const ParameterList& valid, const std:
 
 RCP<const ParameterList> collectionTemplate(const std::string& collection) {
   auto pl = rcp(new ParameterList(collection));
-  if (collection == "Constraints") {
-    choice(*pl, "Where", "Face", {"Face", "Node"}, "a face of the body, or the grid node at (X, Y)");
+  if (collection == "Materials") {
+    choice(*pl, "Model", "Linear Elastic", {"Linear Elastic"}, "constitutive model");
+    number(*pl, "Young Modulus", 200.0e9, "E (Pa)");
+    number(*pl, "Poisson Ratio", 0.3, "nu, in (-1, 0.5)");
+    number(*pl, "Density", 7800.0, "rho (kg/m^3)");
+  } else if (collection == "Bodies") {
+    choice(*pl, "Shape", "Rectangle", {"Rectangle", "Ellipse", "Polygon", "Particles File"},
+           "Rectangle: X/Y Min/Max on grid lines; Ellipse: Center X/Y and Radius X/Y (a disk when equal); "
+           "Polygon: Vertices; Particles File: File. Lattice-filled shapes keep the sub-box centres inside the "
+           "shape; Ellipse and Polygon particles share the shape's exact area as volume");
+    pl->set("Material", "", "name of the material (an entry of Materials)");
+    number(*pl, "X Min", 0.0, "Rectangle: left edge (on a grid line)");
+    number(*pl, "X Max", 1.0, "Rectangle: right edge (on a grid line)");
+    number(*pl, "Y Min", 0.0, "Rectangle: bottom edge (on a grid line)");
+    number(*pl, "Y Max", 1.0, "Rectangle: top edge (on a grid line)");
+    number(*pl, "Center X", 0.5, "Ellipse: x of the centre");
+    number(*pl, "Center Y", 0.5, "Ellipse: y of the centre");
+    number(*pl, "Radius X", 0.25, "Ellipse: semi-axis along x");
+    number(*pl, "Radius Y", 0.25, "Ellipse: semi-axis along y");
+    pl->set("Vertices", "", "Polygon: 'x1, y1; x2, y2; x3, y3; ...' (either orientation, not self-crossing)");
+    pl->set("File", "", "Particles File: CSV rows x, y, volume (m^3, i.e. area x Thickness); a relative path is "
+                        "relative to the working directory");
+    pl->set("Particles Per Cell X", 2, "particles per cell in x (lattice fill)");
+    pl->set("Particles Per Cell Y", 2, "particles per cell in y (lattice fill)");
+    number(*pl, "Velocity X", 0.0, "initial velocity, x (m/s)");
+    number(*pl, "Velocity Y", 0.0, "initial velocity, y (m/s)");
+  } else if (collection == "Constraints") {
+    choice(*pl, "Where", "Face", {"Face", "Node", "Box"},
+           "a face of a rectangular body, the grid node at (X, Y), or every grid node in the box X/Y Min/Max "
+           "(edges included)");
     choice(*pl, "Face", "x-", {"x-", "x+", "y-", "y+"}, "face of the body (Where = Face)");
+    pl->set("Body", "", "the body whose face it is (Where = Face; empty: the first body)");
     number(*pl, "X", 0.0, "x of the node (Where = Node)");
     number(*pl, "Y", 0.0, "y of the node (Where = Node)");
+    number(*pl, "X Min", 0.0, "box (Where = Box)");
+    number(*pl, "X Max", 0.0, "box (Where = Box)");
+    number(*pl, "Y Min", 0.0, "box (Where = Box)");
+    number(*pl, "Y Max", 0.0, "box (Where = Box)");
     choice(*pl, "Components", "xy", {"x", "y", "xy"}, "displacement components fixed to zero");
   } else if (collection == "Loads") {
-    choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force"},
-           "uniform traction on a face of the body (consistent nodal forces), a force on the grid node at "
-           "(X, Y), or a force carried by the particle nearest (X, Y)");
+    choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force", "Body Force"},
+           "uniform traction on a face of a rectangular body (consistent nodal forces), a force on the grid "
+           "node at (X, Y), a force carried by the particle nearest (X, Y), or a body force m_p g "
+           "(Acceleration X/Y, e.g. gravity) on the particles of Body");
     choice(*pl, "Face", "x+", {"x-", "x+", "y-", "y+"}, "face of the body (Face Traction)");
+    pl->set("Body", "", "Face Traction: the body whose face it is (empty: the first body); Body Force: the "
+                        "body it acts on (empty: every body)");
+    number(*pl, "Acceleration X", 0.0, "Body Force: acceleration, x (m/s^2)");
+    number(*pl, "Acceleration Y", 0.0, "Body Force: acceleration, y (m/s^2)");
     number(*pl, "X", 0.0, "x of the point (Node Force, Particle Force)");
     number(*pl, "Y", 0.0, "y of the point (Node Force, Particle Force)");
     number(*pl, "Force X", 0.0, "total force, x component (N)");
     number(*pl, "Force Y", 0.0, "total force, y component (N)");
     choice(*pl, "Time Function", "Step", {"Step", "Sine", "Constant"},
-           "Step: F H(t - Start Time); Sine: F sin(omega t); Constant: F");
+           "Step: F H(t - Start Time); Sine: F sin(omega t); Constant: F (the same factor scales a Body Force)");
     number(*pl, "Angular Frequency", 0.0, "omega of the Sine time function (rad/s)");
     number(*pl, "Start Time", 0.0, "time at which a Step load comes on (s)");
   } else if (collection == "Monitors") {
@@ -151,33 +189,21 @@ RCP<const ParameterList> validParameters() {
     p.set("Cells Y", 1, "number of cells in y");
     number(p, "Cell Size X", 1.0, "cell size in x (m)");
     number(p, "Cell Size Y", 1.0, "cell size in y (m)");
-  }
-  {
-    ParameterList& p = valid->sublist("Material", false, "small-strain isotropic linear elasticity");
-    choice(p, "Model", "Linear Elastic", {"Linear Elastic"}, "constitutive model");
-    number(p, "Young Modulus", 200.0e9, "E (Pa)");
-    number(p, "Poisson Ratio", 0.3, "nu, in (-1, 0.5)");
-    number(p, "Density", 7800.0, "rho (kg/m^3)");
     choice(p, "Plane Condition", "Plane Strain", {"Plane Strain", "Plane Stress"},
            "2D idealisation; a bar in plane stress has modulus E, in plane strain E/(1 - nu^2)");
     number(p, "Thickness", 1.0, "out-of-plane thickness b (m)");
   }
-  {
-    ParameterList& p = valid->sublist("Body", false, "rectangle of material; its edges lie on grid lines");
-    number(p, "X Min", 0.0, "left edge");
-    number(p, "X Max", 1.0, "right edge");
-    number(p, "Y Min", 0.0, "bottom edge");
-    number(p, "Y Max", 1.0, "top edge");
-    p.set("Particles Per Cell X", 2, "particles per cell in x");
-    p.set("Particles Per Cell Y", 2, "particles per cell in y");
-  }
+  valid->sublist("Materials", false, "named sublists, each a material (see --print-defaults)").disableRecursiveValidation();
+  valid->sublist("Bodies", false,
+                 "named sublists, each a body: a shape filled with particles of one material (see --print-defaults); "
+                 "a later body replaces the particles of earlier ones inside its shape").disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Method", false, "spatial discretisation");
     choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "FE Q4", "FE Q9"},
            "MPM: linear tent at particle points; GIMP: uniform GIMP; FE Q4 / FE Q9: the finite-element "
            "reference on the same kernels, particles fixed at the Gauss points (Q4: bilinear, 2 x 2 per cell; "
            "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
-           "only; Body/Particles Per Cell is not used");
+           "only, Rectangle bodies only; Particles Per Cell is not used");
   }
   {
     ParameterList& p = valid->sublist("Integrator", false, "time integration");
@@ -232,8 +258,11 @@ RCP<const ParameterList> validParameters() {
       .disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Exact Solution", false, "exact solution for the monitors, if any");
-    choice(p, "Type", "None", {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave"},
+    choice(p, "Type", "None", {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load"},
            "Bar Step Load: 1D rod fixed at X Min under the step load named by Load at X Max; "
+           "Layered Bar Step Load: the same rod made of all the Rectangle bodies side by side along x, each of its "
+           "own material, the load at the right end of the last: the wave fronts traced through every interface "
+           "(transmitted 2 Z_b/(Z_a + Z_b), reflected (Z_b - Z_a)/(Z_a + Z_b)); displacement, velocity and stress XX; "
            "Simply Supported Beam: Euler-Bernoulli beam under the harmonic point load named by Load; "
            "Bar Standing Wave: 1D rod fixed in x at both ends (Constraints on faces x- and x+), no loads, "
            "started by Initial Conditions/Type = Standing Wave: u = (V/omega) sin(n pi X/L) sin(omega t), "
@@ -241,6 +270,7 @@ RCP<const ParameterList> validParameters() {
     choice(p, "Modulus", "Plane Condition", {"Plane Condition", "Young Modulus"},
            "modulus of the exact solution: Plane Condition = E in plane stress, E/(1-nu^2) in plane strain");
     p.set("Load", "", "name of the load (in Loads) that the exact solution is driven by (not used by Bar Standing Wave)");
+    p.set("Body", "", "the body the exact solution describes (empty: the first body; a Rectangle)");
     choice(p, "Form", "Closed", {"Closed", "Series"}, "bar: d'Alembert closed form or Fourier series");
     p.set("Series Terms", 2000, "terms of the series");
     choice(p, "Beam Theory", "Euler-Bernoulli", {"Euler-Bernoulli", "Timoshenko"},
@@ -257,6 +287,9 @@ RCP<const ParameterList> validParameters() {
     p.set("VTK Interval", 0, "steps between VTU particle files (0: first and last step only)");
     p.set("Plot", true, "write plot.png (computed against exact) with python3-matplotlib");
     p.set("Progress", true, "print a progress line with ETA on runs longer than a few seconds");
+    p.set("Energy And Momentum", false,
+          "add kinetic, strain and total energy and linear momentum columns to history.csv, and their drift to "
+          "summary.yaml (Energy, Momentum)");
   }
   return valid;
 }
@@ -277,8 +310,87 @@ RCP<ParameterList> readDeck(const std::string& path) {
   throw DeckError("deck '" + path + "' must end in .xml, .yaml or .yml");
 }
 
+namespace {
+// The sections of the single-body form (still read; converted by convertSingleBodyForm).
+RCP<const ParameterList> legacyTemplate(const std::string& section) {
+  auto pl = rcp(new ParameterList(section));
+  if (section == "Material") {
+    choice(*pl, "Model", "Linear Elastic", {"Linear Elastic"}, "constitutive model");
+    number(*pl, "Young Modulus", 200.0e9, "E (Pa)");
+    number(*pl, "Poisson Ratio", 0.3, "nu, in (-1, 0.5)");
+    number(*pl, "Density", 7800.0, "rho (kg/m^3)");
+    choice(*pl, "Plane Condition", "Plane Strain", {"Plane Strain", "Plane Stress"}, "2D idealisation");
+    number(*pl, "Thickness", 1.0, "out-of-plane thickness b (m)");
+  } else if (section == "Body") {
+    number(*pl, "X Min", 0.0, "left edge");
+    number(*pl, "X Max", 1.0, "right edge");
+    number(*pl, "Y Min", 0.0, "bottom edge");
+    number(*pl, "Y Max", 1.0, "top edge");
+    pl->set("Particles Per Cell X", 2, "particles per cell in x");
+    pl->set("Particles Per Cell Y", 2, "particles per cell in y");
+  } else {
+    throw std::logic_error("no legacy section " + section);
+  }
+  return pl;
+}
+
+// The single-body form (sections Material and Body, the seed's decks) becomes the Materials
+// entry "Material", the Rectangle "Body" in Bodies and the Grid's plane condition and
+// thickness, so that everything after validation sees one form (and messages about it name
+// 'Materials/Material/...', 'Bodies/Body/...', which contain the keys the user wrote).
+void convertSingleBodyForm(ParameterList& deck) {
+  for (const char* section : {"Material", "Body", "Materials", "Bodies"})
+    if (deck.isParameter(section) && !deck.isSublist(section))
+      throw DeckError(std::string("'") + section + "' must be a sublist, not a value");
+  const bool legacy = deck.isSublist("Material") || deck.isSublist("Body");
+  if (deck.isSublist("Bodies")) {
+    for (const char* old : {"Material", "Body"})
+      if (deck.isSublist(old))
+        throw DeckError(std::string("'") + old + "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
+                        "'Materials' / 'Bodies')");
+    return;
+  }
+  if (deck.isSublist("Materials"))
+    throw DeckError("'Materials' needs 'Bodies' (the single-body form uses 'Material' and 'Body')");
+  if (!legacy)
+    throw DeckError("the deck has no body: add 'Materials' and 'Bodies', or the single-body sections 'Material' and 'Body'");
+  if (deck.isSublist("Grid"))
+    for (const char* key : {"Plane Condition", "Thickness"})
+      if (deck.sublist("Grid").isParameter(key))
+        throw DeckError(std::string("'Grid/") + key + "' belongs to the 'Materials'/'Bodies' form; the single-body form "
+                        "sets 'Material/" + key + "'");
+  ParameterList material = deck.isSublist("Material") ? deck.sublist("Material") : ParameterList("Material");
+  ParameterList body = deck.isSublist("Body") ? deck.sublist("Body") : ParameterList("Body");
+  checkList(material, *legacyTemplate("Material"), "Material");
+  checkList(body, *legacyTemplate("Body"), "Body");
+  material.validateParametersAndSetDefaults(*legacyTemplate("Material"));
+  body.validateParametersAndSetDefaults(*legacyTemplate("Body"));
+  if (!(material.get<double>("Thickness") > 0))
+    throw DeckError("'Material/Thickness' must be positive, got " + valueString(material.getEntry("Thickness")));
+  ParameterList& grid = deck.sublist("Grid");
+  grid.set("Plane Condition", material.get<std::string>("Plane Condition"));
+  grid.set("Thickness", material.get<double>("Thickness"));
+  ParameterList& m = deck.sublist("Materials").sublist("Material");
+  for (const char* key : {"Young Modulus", "Poisson Ratio", "Density"}) m.set(key, material.get<double>(key));
+  m.set("Model", material.get<std::string>("Model"));
+  ParameterList& b = deck.sublist("Bodies").sublist("Body");
+  b.set("Shape", std::string("Rectangle"));
+  b.set("Material", std::string("Material"));
+  for (const char* key : {"X Min", "X Max", "Y Min", "Y Max"}) b.set(key, body.get<double>(key));
+  for (const char* key : {"Particles Per Cell X", "Particles Per Cell Y"}) b.set(key, body.get<int>(key));
+  deck.remove("Material");
+  deck.remove("Body");
+}
+}  // namespace
+
 void validateDeck(ParameterList& deck) {
   const RCP<const ParameterList> valid = validParameters();
+  // Deck keys name the single-body form in messages (e.g. 'Body/X Min'): check it first.
+  for (const char* old : {"Material", "Body"})
+    if (deck.isSublist(old) && deck.isSublist("Bodies"))
+      throw DeckError(std::string("'") + old + "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
+                      "'Materials' / 'Bodies')");
+  convertSingleBodyForm(deck);
   checkList(deck, *valid, "");
   try {
     deck.validateParametersAndSetDefaults(*valid);

@@ -15,9 +15,10 @@ struct DeckError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Every valid parameter with its default and documentation. The collections "Constraints",
-// "Loads" and "Monitors" hold any number of named sublists, each of the form
-// collectionTemplate(name).
+// Every valid parameter with its default and documentation. The collections "Materials",
+// "Bodies", "Constraints", "Loads" and "Monitors" hold any number of named sublists, each of
+// the form collectionTemplate(name). The single-body form (sections "Material" and "Body") is
+// converted by validateDeck into one entry of Materials and Bodies.
 Teuchos::RCP<const Teuchos::ParameterList> validParameters();
 Teuchos::RCP<const Teuchos::ParameterList> collectionTemplate(const std::string& collection);
 

@@ -1,6 +1,8 @@
 #include "physics/Body.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 namespace impm {
@@ -16,68 +18,131 @@ void gaussRule(int n, std::vector<double>& xi, std::vector<double>& w) {
     w = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
   }
 }
-}  // namespace
 
-ParticleSet createParticles(const RectangularBody& body, const LinearElastic& mat, const GridDistribution& dist) {
-  const StructuredGrid& g = dist.grid();
+// Gauss points of the elements of a rectangle on grid lines: one cell (Q4) or 2 x 2 cells (Q9).
+std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const StructuredGrid& g, bool q9, double thickness) {
   const int cellI0 = (int)std::lround((body.xMin - g.x0) / g.hx), cellI1 = (int)std::lround((body.xMax - g.x0) / g.hx);
   const int cellJ0 = (int)std::lround((body.yMin - g.y0) / g.hy), cellJ1 = (int)std::lround((body.yMax - g.y0) / g.hy);
-  const int iBegin = std::max(cellI0, dist.cellColumnBegin()), iEnd = std::min(cellI1, dist.cellColumnEnd());
+  const int span = q9 ? 2 : 1;
+  std::vector<double> xi, w;
+  gaussRule(q9 ? 3 : 2, xi, w);
+  const double ex = 0.5 * span * g.hx, ey = 0.5 * span * g.hy;  // element half sizes
+  std::vector<ParticlePoint> points;
+  for (int i = cellI0; i < cellI1; i += span)
+    for (int j = cellJ0; j < cellJ1; j += span) {
+      const double cx = g.nodeX(i) + ex, cy = g.nodeY(j) + ey;
+      for (size_t a = 0; a < xi.size(); ++a)
+        for (size_t b = 0; b < xi.size(); ++b)
+          points.push_back({cx + xi[a] * ex, cy + xi[b] * ey, 0.0, 0.0, 0.0, 0.0, w[a] * w[b] * ex * ey * thickness});
+    }
+  return points;
+}
 
-  // Points (x, y, half sizes, volume) of this rank, in its own cell columns.
-  struct Point { double x, y, lx, ly, vol; };
-  std::vector<Point> points;
-  if (body.placement == Placement::Lattice) {
-    const int ppx = body.particlesPerCellX, ppy = body.particlesPerCellY;
-    const double dx = g.hx / ppx, dy = g.hy / ppy;
-    const double vol = dx * dy * body.thickness;
-    for (int i = iBegin; i < iEnd; ++i)
-      for (int j = cellJ0; j < cellJ1; ++j)
-        for (int a = 0; a < ppx; ++a)
-          for (int b = 0; b < ppy; ++b)
-            points.push_back({g.nodeX(i) + (a + 0.5) * dx, g.nodeY(j) + (b + 0.5) * dy, 0.5 * dx, 0.5 * dy, vol});
-  } else {
-    // Elements: one cell (Q4) or 2 x 2 cells (Q9); a Gauss point belongs to the rank owning
-    // the cell column it lies in (the Q9 centre line lies on a cell line: the right cell).
-    const bool q9 = body.placement == Placement::GaussQ9;
-    const int span = q9 ? 2 : 1;
-    std::vector<double> xi, w;
-    gaussRule(q9 ? 3 : 2, xi, w);
-    const double ex = 0.5 * span * g.hx, ey = 0.5 * span * g.hy;  // element half sizes
-    for (int i = cellI0; i < cellI1; i += span)
-      for (int j = cellJ0; j < cellJ1; j += span) {
-        const double cx = g.nodeX(i) + ex, cy = g.nodeY(j) + ey;
-        for (size_t a = 0; a < xi.size(); ++a)
-          for (size_t b = 0; b < xi.size(); ++b) {
-            const double px = cx + xi[a] * ex, py = cy + xi[b] * ey;
-            const int column = std::min(g.nx - 1, (int)std::floor((px - g.x0) / g.hx + 1e-9));
-            if (column < dist.cellColumnBegin() || column >= dist.cellColumnEnd()) continue;
-            points.push_back({px, py, 0.0, 0.0, w[a] * w[b] * ex * ey * body.thickness});
-          }
+struct TaggedPoint {
+  ParticlePoint point;
+  int body;
+};
+}  // namespace
+
+ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearElastic& materials,
+                            const GridDistribution& dist, Placement placement, double thickness) {
+  const StructuredGrid& g = dist.grid();
+  const GridBox box{g.x0, g.y0, g.hx, g.hy, g.nx, g.ny};
+  // Every rank fills every body over the whole grid, so that the global id (the position in
+  // this fill) is the same whatever the decomposition; a rank then keeps its own columns.
+  std::vector<TaggedPoint> all;
+  for (int b = 0; b < (int)bodies.size(); ++b) {
+    const BodySpec& body = bodies[b];
+    std::vector<ParticlePoint> pts;
+    try {
+      if (!body.particlesFile.empty()) {
+        pts = readParticlesFile(body.particlesFile, 2, thickness);
+      } else if (placement != Placement::Lattice) {
+        pts = gaussPoints(body.rect, g, placement == Placement::GaussQ9, thickness);
+      } else {
+        // Rectangles on grid lines need no volume scaling; other shapes get their exact area.
+        pts = fillShape(*body.shape, box, body.rect.particlesPerCellX, body.rect.particlesPerCellY, thickness, 0, g.nx,
+                        !body.rectangle);
       }
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("'Bodies/" + body.name + "': " + e.what());
+    }
+    // A later body's shape takes the place of the earlier bodies' particles inside it.
+    if (body.shape && b > 0) {
+      std::vector<TaggedPoint> kept;
+      for (const auto& tp : all)
+        if (!body.shape->contains(tp.point.x, tp.point.y)) kept.push_back(tp);
+      all.swap(kept);
+    }
+    const double tol = 1e-9 * std::min(g.hx, g.hy);
+    int inside = 0;
+    for (const auto& p : pts)
+      if (p.x >= g.x0 - tol && p.x <= g.xMax() + tol && p.y >= g.y0 - tol && p.y <= g.yMax() + tol) {
+        all.push_back({p, b});
+        ++inside;
+      }
+    if (inside == 0)
+      throw std::invalid_argument("'Bodies/" + body.name + "' has no particle inside the grid");
+    if (inside != (int)pts.size())
+      throw std::invalid_argument("'Bodies/" + body.name + "/File': " + std::to_string(pts.size() - inside) +
+                                  " particle(s) lie outside the grid");
   }
 
-  const int n = (int)points.size();
+  std::vector<long long> ids;
+  std::vector<const TaggedPoint*> mine;
+  for (size_t k = 0; k < all.size(); ++k) {
+    const double xp = all[k].point.x;
+    const int column = std::max(0, std::min(g.nx - 1, (int)std::floor((xp - g.x0) / g.hx + 1e-9)));
+    if (!dist.ownsCellColumn(column)) continue;
+    mine.push_back(&all[k]);
+    ids.push_back((long long)k);
+  }
+
+  const int n = (int)mine.size();
   ParticleSet ps(n);
   auto x = Kokkos::create_mirror_view(ps.x);
   auto hs = Kokkos::create_mirror_view(ps.halfSize);
+  auto v = Kokkos::create_mirror_view(ps.v);
   auto m = Kokkos::create_mirror_view(ps.mass);
   auto V0 = Kokkos::create_mirror_view(ps.volume0);
+  auto bodyId = Kokkos::create_mirror_view(ps.body);
+  auto matId = Kokkos::create_mirror_view(ps.material);
+  auto gid = Kokkos::create_mirror_view(ps.id);
   for (int p = 0; p < n; ++p) {
-    x(p, 0) = points[p].x;
-    x(p, 1) = points[p].y;
-    hs(p, 0) = points[p].lx;
-    hs(p, 1) = points[p].ly;
-    m(p) = mat.density * points[p].vol;
-    V0(p) = points[p].vol;
+    const ParticlePoint& pt = mine[p]->point;
+    const BodySpec& body = bodies[mine[p]->body];
+    x(p, 0) = pt.x;
+    x(p, 1) = pt.y;
+    hs(p, 0) = pt.lx;
+    hs(p, 1) = pt.ly;
+    v(p, 0) = body.velocityX;
+    v(p, 1) = body.velocityY;
+    m(p) = materials.density(body.material) * pt.volume;
+    V0(p) = pt.volume;
+    bodyId(p) = mine[p]->body;
+    matId(p) = body.material;
+    gid(p) = ids[p];
   }
   Kokkos::deep_copy(ps.x, x);
   Kokkos::deep_copy(ps.x0, x);
   Kokkos::deep_copy(ps.halfSize, hs);
+  Kokkos::deep_copy(ps.v, v);
   Kokkos::deep_copy(ps.mass, m);
   Kokkos::deep_copy(ps.volume0, V0);
   Kokkos::deep_copy(ps.volume, V0);
+  Kokkos::deep_copy(ps.body, bodyId);
+  Kokkos::deep_copy(ps.material, matId);
+  Kokkos::deep_copy(ps.id, gid);
   return ps;
+}
+
+ParticleSet createParticles(const RectangularBody& body, const LinearElastic& materials, const GridDistribution& dist) {
+  BodySpec spec;
+  spec.name = "body";
+  spec.rectangle = true;
+  spec.rect = body;
+  spec.shape = makeRectangle(body.xMin, body.xMax, body.yMin, body.yMax);
+  return createParticles({spec}, materials, dist, body.placement, body.thickness);
 }
 
 }  // namespace impm

@@ -1,8 +1,16 @@
-// The material body: a rectangle of the grid filled with particles, and how to create them.
+// Bodies: named pieces of material, each a shape filled with particles (a lattice of
+// Particles Per Cell sub-boxes of the cells the shape covers, or the FE reference's Gauss
+// points), or the particles of a file. Every particle carries its body id, its material id and
+// a global id that does not depend on the MPI decomposition (the order of the whole fill).
 #pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
+#include "physics/BodyShapes.hpp"
 #include "physics/LinearElastic.hpp"
 
 namespace impm {
@@ -12,6 +20,7 @@ namespace impm {
 // each with its Gauss weight times the Jacobian as volume.
 enum class Placement { Lattice, GaussQ4, GaussQ9 };
 
+// An axis-aligned rectangle of material (its faces carry constraints and tractions).
 struct RectangularBody {
   double xMin = 0, xMax = 1, yMin = 0, yMax = 1;
   int particlesPerCellX = 2, particlesPerCellY = 2;
@@ -22,8 +31,24 @@ struct RectangularBody {
   double height() const { return yMax - yMin; }
 };
 
-// Particles of the body in the cell columns this rank owns: a regular ppcx x ppcy lattice per
-// cell, each particle the centre of its own sub-box (its GIMP domain), or Gauss points.
-ParticleSet createParticles(const RectangularBody& body, const LinearElastic& mat, const GridDistribution& dist);
+struct BodySpec {
+  std::string name;
+  std::shared_ptr<const BodyShape> shape;  // null for a Particles File body
+  bool rectangle = false;                  // the shape is `rect` (faces, FE placement)
+  RectangularBody rect;                    // extents and particles per cell (all shapes use its ppc)
+  std::string particlesFile;               // Particles File bodies
+  int material = 0;                        // index into the material table
+  double velocityX = 0, velocityY = 0;     // initial velocity
+};
+
+// The particles of all bodies that lie in this rank's cell columns. Where shapes overlap, a
+// body's particles replace those of the bodies listed before it inside its shape (an
+// inclusion is written after the plate it sits in). Throws std::invalid_argument naming the
+// body when one has no particle inside the grid.
+ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearElastic& materials,
+                            const GridDistribution& dist, Placement placement, double thickness);
+
+// One rectangular body of material 0 (tests and benchmarks).
+ParticleSet createParticles(const RectangularBody& body, const LinearElastic& materials, const GridDistribution& dist);
 
 }  // namespace impm

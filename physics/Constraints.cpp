@@ -1,5 +1,6 @@
 #include "physics/Constraints.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -21,14 +22,24 @@ std::vector<std::pair<int, int>> faceNodes(const StructuredGrid& g, const Rectan
   return nodes;
 }
 
-NodalConstraints::NodalConstraints(const std::vector<ConstraintSpec>& specs, const RectangularBody& body,
-                                   const GridDistribution& dist) {
+std::vector<std::pair<int, int>> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax) {
+  const double tx = 1e-9 * g.hx, ty = 1e-9 * g.hy;
+  const int i0 = std::max(0, (int)std::ceil((xMin - tx - g.x0) / g.hx)), i1 = std::min(g.nx, (int)std::floor((xMax + tx - g.x0) / g.hx));
+  const int j0 = std::max(0, (int)std::ceil((yMin - ty - g.y0) / g.hy)), j1 = std::min(g.ny, (int)std::floor((yMax + ty - g.y0) / g.hy));
+  std::vector<std::pair<int, int>> nodes;
+  for (int i = i0; i <= i1; ++i)
+    for (int j = j0; j <= j1; ++j) nodes.emplace_back(i, j);
+  return nodes;
+}
+
+NodalConstraints::NodalConstraints(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist) {
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
   std::vector<int> nodes, comps;
   for (const auto& s : specs) {
     std::vector<std::pair<int, int>> ij;
-    if (s.where == "Face") ij = faceNodes(g, body, s.face);
+    if (s.where == "Face") ij = faceNodes(g, s.body, s.face);
+    else if (s.where == "Box") ij = boxNodes(g, s.xMin, s.xMax, s.yMin, s.yMax);
     else ij.emplace_back((int)std::lround((s.x - g.x0) / g.hx), (int)std::lround((s.y - g.y0) / g.hy));
     for (auto [i, j] : ij) {
       if (!owned.contains(i, j)) continue;

@@ -10,14 +10,32 @@
 
 namespace impm {
 
-// A face of the body, or a single grid node; which components are fixed.
+// A face of a rectangular body, a single grid node, or every grid node in a box; which
+// components are fixed.
 struct ConstraintSpec {
   std::string name;
-  std::string where;  // "Face" or "Node"
-  std::string face;   // x-, x+, y-, y+
-  double x = 0, y = 0;
+  std::string where;    // "Face", "Node" or "Box"
+  std::string face;     // x-, x+, y-, y+ (Face)
+  RectangularBody body; // the body whose face it is (Face)
+  double x = 0, y = 0;  // the node (Node)
+  double xMin = 0, xMax = 0, yMin = 0, yMax = 0;  // the box, edges included (Box)
   bool fixX = false, fixY = false;
+
+  static ConstraintSpec onFace(const std::string& name, const RectangularBody& body, const std::string& face, bool fixX,
+                               bool fixY) {
+    ConstraintSpec s;
+    s.name = name; s.where = "Face"; s.body = body; s.face = face; s.fixX = fixX; s.fixY = fixY;
+    return s;
+  }
+  static ConstraintSpec atNode(const std::string& name, double x, double y, bool fixX, bool fixY) {
+    ConstraintSpec s;
+    s.name = name; s.where = "Node"; s.x = x; s.y = y; s.fixX = fixX; s.fixY = fixY;
+    return s;
+  }
 };
+
+// Grid nodes (global i, j) inside a box, edges included (to round-off).
+std::vector<std::pair<int, int>> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax);
 
 // Grid nodes on a face of the body (global i, j), within the body's extent along the face.
 std::vector<std::pair<int, int>> faceNodes(const StructuredGrid& g, const RectangularBody& body, const std::string& face);
@@ -25,7 +43,7 @@ std::vector<std::pair<int, int>> faceNodes(const StructuredGrid& g, const Rectan
 class NodalConstraints {
  public:
   NodalConstraints() = default;
-  NodalConstraints(const std::vector<ConstraintSpec>& specs, const RectangularBody& body, const GridDistribution& dist);
+  NodalConstraints(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist);
 
   // Zero the constrained components of two-component fields stored in columns col, col+1
   // of an owned grid view (used for velocity, acceleration and displacement).

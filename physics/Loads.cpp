@@ -30,16 +30,17 @@ double tentShare(double xc, double h, double lo, double hi) {
 }
 }  // namespace
 
-LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const RectangularBody& body, const GridDistribution& dist,
-                 const std::vector<int>& particleIndex)
-    : specs_(specs) {
+LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dist, const std::vector<long long>& particleIds,
+                 int bodyCount)
+    : specs_(specs), bodyCount_(bodyCount) {
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
-  std::vector<int> nodes, loads, parts;
+  std::vector<int> nodes, loads;
   std::vector<double> weights;
   for (size_t l = 0; l < specs.size(); ++l) {
     const LoadSpec& s = specs[l];
     if (s.type == "Face Traction") {
+      const RectangularBody& body = s.body;
       const bool vertical = (s.face == "x-" || s.face == "x+");
       for (auto [i, j] : faceNodes(g, body, s.face)) {
         const double w = vertical ? tentShare(g.nodeY(j), g.hy, body.yMin, body.yMax)
@@ -50,7 +51,10 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const RectangularBody& body
       const int i = (int)std::lround((s.x - g.x0) / g.hx), j = (int)std::lround((s.y - g.y0) / g.hy);
       if (owned.contains(i, j)) { nodes.push_back(owned(i, j)); loads.push_back((int)l); weights.push_back(1.0); }
     } else if (s.type == "Particle Force") {
-      if (particleIndex[l] >= 0) { parts.push_back(particleIndex[l]); particleLoad_.push_back((int)l); }
+      if (l < particleIds.size() && particleIds[l] >= 0) particleLoadIds_.emplace_back(particleIds[l], (int)l);
+    } else if (s.type == "Body Force") {
+      bodyForceLoads_.push_back((int)l);
+      hasBodyForces_ = true;
     }
   }
   node_ = Kokkos::View<int*, DeviceType>("load_nodes", nodes.size());
@@ -61,11 +65,39 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const RectangularBody& body
   for (size_t k = 0; k < nodes.size(); ++k) { hn(k) = nodes[k]; hl(k) = loads[k]; hw(k) = weights[k]; }
   Kokkos::deep_copy(node_, hn); Kokkos::deep_copy(load_, hl); Kokkos::deep_copy(weight_, hw);
   nodalForce_ = decltype(nodalForce_)("load_force", specs.size());
+  bodyAcceleration_ = decltype(bodyAcceleration_)("body_acceleration", bodyCount);
+}
+
+void LoadSet::locateParticles(const ParticleSet& ps) {
+  std::vector<int> parts;
+  particleLoad_.clear();
+  if (!particleLoadIds_.empty()) {
+    auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id);
+    for (int p = 0; p < ps.count; ++p)
+      for (const auto& [gid, load] : particleLoadIds_)
+        if (id(p) == gid) { parts.push_back(p); particleLoad_.push_back(load); }
+  }
   particle_ = Kokkos::View<int*, DeviceType>("load_particles", parts.size());
   auto hp = Kokkos::create_mirror_view(particle_);
   for (size_t k = 0; k < parts.size(); ++k) hp(k) = parts[k];
   Kokkos::deep_copy(particle_, hp);
   particleForce_ = decltype(particleForce_)("particle_force", parts.size());
+}
+
+Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> LoadSet::bodyAccelerations(double t) const {
+  auto h = Kokkos::create_mirror_view(bodyAcceleration_);
+  Kokkos::deep_copy(h, 0.0);
+  for (int l : bodyForceLoads_) {
+    const LoadSpec& s = specs_[l];
+    const double f = s.time(t);
+    for (int b = 0; b < bodyCount_; ++b)
+      if (s.bodyIndex < 0 || s.bodyIndex == b) {
+        h(b, 0) += s.accelerationX * f;
+        h(b, 1) += s.accelerationY * f;
+      }
+  }
+  Kokkos::deep_copy(bodyAcceleration_, h);
+  return bodyAcceleration_;
 }
 
 void LoadSet::updateMagnitudes(double t) const {

@@ -1,5 +1,6 @@
-// External loads: total forces with a time function, applied as consistent nodal forces on
-// a face of the body, at a grid node, or carried by the particle nearest a point.
+// External loads with a time function: total forces applied as consistent nodal forces on a
+// face of a rectangular body, at a grid node, or carried by the particle nearest a point; and
+// body forces (an acceleration such as gravity) on the particles of one body or of all.
 #pragma once
 
 #include <string>
@@ -7,6 +8,8 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
+#include "core/ParticleStencil.hpp"
+#include "core/kernels/ParticleToGrid.hpp"
 #include "physics/Body.hpp"
 
 namespace impm {
@@ -20,19 +23,33 @@ struct TimeFunction {
 
 struct LoadSpec {
   std::string name;
-  std::string type;  // "Face Traction", "Node Force", "Particle Force"
+  std::string type;  // "Face Traction", "Node Force", "Particle Force", "Body Force"
   std::string face;  // for Face Traction
+  RectangularBody body;  // the body whose face carries a Face Traction
+  int bodyIndex = -1;    // Body Force: the body (-1: every body)
   double x = 0, y = 0;
   double forceX = 0, forceY = 0;  // total force (N)
+  double accelerationX = 0, accelerationY = 0;  // Body Force (m/s^2)
   TimeFunction time;
+
+  static LoadSpec faceTraction(const std::string& name, const RectangularBody& body, const std::string& face,
+                               double forceX, double forceY, TimeFunction time = {}) {
+    LoadSpec s;
+    s.name = name; s.type = "Face Traction"; s.body = body; s.face = face;
+    s.forceX = forceX; s.forceY = forceY; s.time = time;
+    return s;
+  }
 };
 
 class LoadSet {
  public:
   LoadSet() = default;
-  // particleIndex[k]: local particle chosen for each Particle Force load (-1 if on another rank).
-  LoadSet(const std::vector<LoadSpec>& specs, const RectangularBody& body, const GridDistribution& dist,
-          const std::vector<int>& particleIndex);
+  // particleIds[k]: global id of the particle carrying load k (Particle Force), -1 otherwise.
+  // Call locateParticles() before stepping (and after particles migrate).
+  LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dist, const std::vector<long long>& particleIds,
+          int bodyCount);
+  // Finds this rank's particles of the Particle Force loads by global id.
+  void locateParticles(const ParticleSet& ps);
 
   // Adds the nodal forces at time t into columns col, col+1 of an owned grid view.
   template <class ExecSpace, class GridView>
@@ -49,6 +66,20 @@ class LoadSet {
   Kokkos::View<int*, DeviceType> particleIndices() const { return particle_; }
   Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> particleForces(double t) const;
   bool hasParticleForces() const { return particle_.extent(0) > 0; }
+  bool hasBodyForces() const { return hasBodyForces_; }
+  // Body-force acceleration of each body at time t.
+  Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> bodyAccelerations(double t) const;
+
+  // Every particle-carried external force at time t (point forces and body forces m_p g),
+  // scattered into columns col, col+1 of a ghosted grid view.
+  template <class ExecSpace, class Shape, class GridView>
+  void scatterParticleForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                             const GridView& grid, int col, double t) const {
+    if (hasParticleForces())
+      particleToGridForces<ExecSpace, Shape>(g, ix, ps, particleIndices(), particleForces(t), grid, col);
+    if (hasBodyForces())
+      particleToGridBodyForces<ExecSpace, Shape>(g, ix, ps, bodyAccelerations(t), grid, col);
+  }
 
  private:
   void updateMagnitudes(double t) const;
@@ -56,9 +87,14 @@ class LoadSet {
   Kokkos::View<int*, DeviceType> node_, load_;
   Kokkos::View<double*, DeviceType> weight_;
   mutable Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> nodalForce_;  // per load, at t
-  Kokkos::View<int*, DeviceType> particle_;
-  std::vector<int> particleLoad_;
+  Kokkos::View<int*, DeviceType> particle_;  // local indices of the carrying particles on this rank
+  std::vector<int> particleLoad_;             // their loads
+  std::vector<std::pair<long long, int>> particleLoadIds_;  // (global id, load) of every Particle Force
   mutable Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> particleForce_;
+  std::vector<int> bodyForceLoads_;
+  int bodyCount_ = 0;
+  bool hasBodyForces_ = false;
+  mutable Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> bodyAcceleration_;
 };
 
 }  // namespace impm

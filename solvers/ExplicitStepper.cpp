@@ -2,6 +2,8 @@
 
 #include <Teuchos_CommHelpers.hpp>
 
+#include "core/PhaseTimer.hpp"
+
 namespace impm {
 
 template <class Shape>
@@ -24,6 +26,7 @@ std::string ExplicitStepper<Shape>::name() const {
 
 template <class Shape>
 void ExplicitStepper<Shape>::particleToGridMomentum() {
+  PhaseTimer phase("p2g");
   fields_.accumGhosted->putScalar(0.0);
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
   particleToGridMassMomentum<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::Mass, accum::MomX);
@@ -31,6 +34,7 @@ void ExplicitStepper<Shape>::particleToGridMomentum() {
 
 template <class Shape>
 void ExplicitStepper<Shape>::particleToGridForces(double t, bool withMomentum) {
+  PhaseTimer phase("p2g");
   if (withMomentum) fields_.accumGhosted->putScalar(0.0);
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
   if (withMomentum)
@@ -38,13 +42,12 @@ void ExplicitStepper<Shape>::particleToGridForces(double t, bool withMomentum) {
                                                 accum::MomX, accum::FintX);
   else
     accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, accum::FintX);
-  if (loads_.hasParticleForces())
-    impm::particleToGridForces<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, loads_.particleIndices(),
-                                            loads_.particleForces(t), grid, accum::FextX);
+  loads_.template scatterParticleForces<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::FextX, t);
 }
 
 template <class Shape>
 void ExplicitStepper<Shape>::gridUpdate(double dt, bool withForces) {
+  PhaseTimer phase("grid update");
   auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto kinv = fields_.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
   const double cutoff = massCutoff_;
@@ -73,6 +76,7 @@ void ExplicitStepper<Shape>::gridUpdate(double dt, bool withForces) {
 // Jacobi iteration v += M_L^-1 (p - M_C v) squares that factor's deviation from 1.
 template <class Shape>
 void ExplicitStepper<Shape>::correctProjection() {
+  PhaseTimer phase("projection correction");
   const double cutoff = massCutoff_;
   for (int it = 0; it < opt_.projectionIterations; ++it) {
     {
@@ -109,6 +113,7 @@ void ExplicitStepper<Shape>::correctProjection() {
 
 template <class Shape>
 void ExplicitStepper<Shape>::stressFromGhostedVelocity(double dt, bool fromAccum) {
+  PhaseTimer phase("stress update");
   if (fromAccum) {
     auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
     gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::MomX);
@@ -116,7 +121,7 @@ void ExplicitStepper<Shape>::stressFromGhostedVelocity(double dt, bool fromAccum
     auto grid = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
     gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, kin::VelX);
   }
-  updateStress<Exec>(ps_, mat_, dt);
+  updateStress<Exec>(ps_, mat_.law(), dt);
 }
 
 template <class Shape>
@@ -145,11 +150,12 @@ void ExplicitStepper<Shape>::step(double t, double dt) {
   fields_.importKinematics();
 
   {
+    PhaseTimer phase("g2p");
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
     const bool usl = opt_.scheme == ExplicitScheme::USL;
     // USL: the stress update from grad v^{n+1} runs inside g2p.
     gridToParticleExplicit<Exec, Shape>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
-                                        usl ? &mat_ : nullptr);
+                                        mat_.law(), usl);
   }
   if (opt_.scheme == ExplicitScheme::MUSL) {
     // Re-map the updated particle momentum, then the stress from that velocity field.

@@ -9,6 +9,8 @@
 #include <Thyra_TpetraLinearOp.hpp>
 #include <Thyra_TpetraThyraWrappers.hpp>
 
+#include "core/PhaseTimer.hpp"
+
 #include <stdexcept>
 
 namespace impm {
@@ -58,6 +60,7 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
 }
 
 RCP<TpetraOperator> IfpackPreconditionerCache::update(const RCP<const CrsMatrix>& P, long valuesVersion) {
+  PhaseTimer phase("preconditioner set-up");
   // Same object with a static (const) graph: only the values can have changed, so the symbolic
   // setup stands. Anything else may have a new structure: start from a fresh preconditioner.
   const bool sameStructure = !prec_.is_null() && P.get() == matrix_.get() && P->isStaticGraph();

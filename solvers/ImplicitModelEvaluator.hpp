@@ -1,4 +1,4 @@
-// Thyra model evaluator over a ResidualModel (solvers/NewtonSolver.hpp), and the preconditioners
+// Thyra model evaluator over a ResidualModel (solvers/ResidualModel.hpp), and the preconditioners
 // (Ifpack2, or a gathered direct solve) it builds from the assembled matrix P.
 //
 // Supports IN_ARG_x, OUT_ARG_f, OUT_ARG_W_prec (when a preconditioner is configured) and OUT_ARG_W_op
@@ -8,7 +8,7 @@
 // preconditioner cache outlives it so that an unchanged matrix graph is not set up again.
 #pragma once
 
-#include "solvers/NewtonSolver.hpp"
+#include "solvers/ResidualModel.hpp"
 
 #include <Ifpack2_Preconditioner.hpp>
 #include <Teuchos_ParameterList.hpp>

@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 
+#include "core/PhaseTimer.hpp"
 #include "core/kernels/GridToParticle.hpp"
 #include "core/kernels/InternalForce.hpp"
 #include "core/kernels/ParticleToGrid.hpp"
@@ -70,6 +71,7 @@ std::string ImplicitNewmark<Shape>::name() const {
 
 template <class Shape>
 void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
+  PhaseTimer phase("implicit step set-up (p2g)");
   dt_ = dt;
   const StructuredGrid& g = dist_.grid();
   // Particles to grid at t: mass, momentum, m a; particle forces at t + dt.
@@ -77,9 +79,7 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
   {
     auto grid = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     particleToGridMassMomentum<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, grid, st::Mass, st::VelX, st::AccX);
-    if (loads_.hasParticleForces())
-      particleToGridForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, loads_.particleIndices(),
-                                        loads_.particleForces(t + dt), grid, st::FextX);
+    loads_.template scatterParticleForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, grid, st::FextX, t + dt);
   }
   stateOwned_->putScalar(0.0);
   stateOwned_->doExport(*stateGhosted_, *dist_.importer(), Tpetra::ADD);
@@ -91,9 +91,7 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
     {
       auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
       accumulateInternalForce<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, 0);
-      if (loads_.hasParticleForces())
-        particleToGridForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, loads_.particleIndices(),
-                                          loads_.particleForces(t), f, 0);
+      loads_.template scatterParticleForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, f, 0, t);
     }
     forceOwned_->putScalar(0.0);
     forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
@@ -240,6 +238,7 @@ void ImplicitNewmark<Shape>::scatterUnknowns(const Vector& u) {
 
 template <class Shape>
 void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
+  PhaseTimer phase("residual");
   scatterUnknowns(u);
   forceGhosted_->putScalar(0.0);
   {
@@ -251,8 +250,8 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
       auto sv = Kokkos::Experimental::create_scatter_view(f);
       const StructuredGrid g = dist_.grid();
       const LocalNodeIndexer ix = dist_.ghostedIndexer();
-      auto x = ps_.x; auto hs = ps_.halfSize; auto vol = ps_.volume; auto sig = ps_.stress;
-      const double c11 = mat_.c11(), c12 = mat_.c12(), c33 = mat_.c33();
+      auto x = ps_.x; auto hs = ps_.halfSize; auto vol = ps_.volume; auto sig = ps_.stress; auto matId = ps_.material;
+      const auto law = mat_.law();
       Kokkos::parallel_for(
           "implicit_internal_force", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
             auto out = sv.access();
@@ -265,9 +264,10 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
                 l00 += d(n, dp::UX) * dx; l01 += d(n, dp::UX) * dy;
                 l10 += d(n, dp::UY) * dx; l11 += d(n, dp::UY) * dy;
               }
-            const double gxy = l01 + l10;
-            scatterInternalForce(st, ix, vol(p), sig(p, 0) + c11 * l00 + c12 * l11, sig(p, 1) + c12 * l00 + c11 * l11,
-                                 sig(p, 2) + c33 * gxy, out, 0);
+            const double s0[4] = {sig(p, 0), sig(p, 1), sig(p, 2), sig(p, 3)};
+            double trial[4];
+            law.stress(matId(p), s0, l00, l01, l10, l11, trial);
+            scatterInternalForce(st, ix, vol(p), trial[0], trial[1], trial[2], out, 0);
           });
       Kokkos::Experimental::contribute(f, sv);
     }
@@ -299,6 +299,7 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
 
 template <class Shape>
 Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vector& /*u*/) {
+  PhaseTimer phase("stiffness assembly");
   // P = 4/dt^2 M + K, K over particle-cell pairs (exact over overlaps for GIMP). Small strain:
   // P does not depend on u, so it is assembled once per step.
   if (PCurrent_) return P_;
@@ -407,9 +408,9 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   BlockMatrices Kb;
   if (seedGimpStiffness_) {
     const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, false);
-    Kb = overlapStiffness<Exec>(g, pairs, ps_, mat_);
+    Kb = overlapStiffness<Exec>(g, pairs, ps_, mat_.law());
   } else {
-    Kb = stencilStiffness<Exec, Shape>(g, ps_, mat_, consistentMassInP ? massFactor : 0.0);
+    Kb = stencilStiffness<Exec, Shape>(g, ps_, mat_.law(), consistentMassInP ? massFactor : 0.0);
   }
   auto O = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.origin);
   auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.K);
@@ -441,6 +442,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
 
 template <class Shape>
 void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
+  PhaseTimer phase("g2p and stress update");
   scatterUnknowns(u);
   // Grid acceleration at t + dt on the free dofs (zero elsewhere).
   {
@@ -474,7 +476,7 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
   {
     auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX);
-    updateStress<Exec>(ps_, mat_, 1.0);
+    updateStress<Exec>(ps_, mat_.law(), 1.0);
     const StructuredGrid g = dist_.grid();
     const LocalNodeIndexer ix = dist_.ghostedIndexer();
     auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
@@ -515,7 +517,10 @@ bool ImplicitNewmark<Shape>::trySteps(double t, double dt, int depth) {
   setUpStep(t, dt);
   Vector u(unknownMap_, true);
   auto t1 = clock::now();
-  const NewtonResult result = solver_->solve(*this, u);
+  const NewtonResult result = [&] {
+    PhaseTimer phase("Newton solve (NOX)");
+    return solver_->solve(*this, u);
+  }();
   auto t2 = clock::now();
   secondsSetUp_ += std::chrono::duration<double>(t1 - t0).count();
   secondsSolve_ += std::chrono::duration<double>(t2 - t1).count();

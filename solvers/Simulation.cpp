@@ -11,18 +11,19 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "core/ParticleMigration.hpp"
+#include "core/PhaseTimer.hpp"
+#include "core/kernels/Energy.hpp"
 #include "core/output/VtkWriter.hpp"
 #include "physics/InitialConditions.hpp"
 #include "solvers/ExplicitStepper.hpp"
 #include "solvers/ImplicitNewmark.hpp"
 
-#ifndef IMPM_PLOT_SCRIPT
-#define IMPM_PLOT_SCRIPT "apps/plot_history.py"
-#endif
 
 namespace impm {
 
@@ -55,6 +56,13 @@ bool onGridLine(double x, double x0, double h) {
 
 }  // namespace
 
+void Simulation::checkGridNode(const std::string& where, double x, double y) const {
+  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
+  if (!onGridLine(x, grid_.x0, grid_.hx) || !onGridLine(y, grid_.y0, grid_.hy) || x < grid_.x0 - tolx ||
+      x > grid_.xMax() + tolx || y < grid_.y0 - toly || y > grid_.yMax() + toly)
+    throw DeckError("'" + where + "/X', '" + where + "/Y' = (" + fmt(x) + ", " + fmt(y) + ") is not a grid node");
+}
+
 Simulation::~Simulation() = default;
 
 Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
@@ -64,7 +72,6 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   outputDir_ = outputOverride.empty() ? problem.get<std::string>("Output Directory") : outputOverride;
   if (outputDir_.empty()) throw DeckError("'Problem/Output Directory' must not be empty");
 
-  // Grid.
   const ParameterList& g = deck_.sublist("Grid");
   grid_.x0 = g.get<double>("Origin X");
   grid_.y0 = g.get<double>("Origin Y");
@@ -72,52 +79,265 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   grid_.ny = positiveInt(g, "Grid", "Cells Y");
   grid_.hx = positive(g, "Grid", "Cell Size X");
   grid_.hy = positive(g, "Grid", "Cell Size Y");
+  thickness_ = positive(g, "Grid", "Thickness");
 
-  // Material.
-  const ParameterList& m = deck_.sublist("Material");
-  material_.E = positive(m, "Material", "Young Modulus");
-  material_.density = positive(m, "Material", "Density");
-  material_.nu = m.get<double>("Poisson Ratio");
-  if (!(material_.nu > -1.0 && material_.nu < 0.5))
-    throw DeckError("'Material/Poisson Ratio' must lie in (-1, 0.5), got " + fmt(material_.nu));
-  material_.plane = m.get<std::string>("Plane Condition") == "Plane Stress" ? PlaneCondition::PlaneStress
-                                                                              : PlaneCondition::PlaneStrain;
-  body_.thickness = positive(m, "Material", "Thickness");
-
-  // Body: inside the grid, edges on grid lines.
-  const ParameterList& b = deck_.sublist("Body");
-  body_.xMin = b.get<double>("X Min"); body_.xMax = b.get<double>("X Max");
-  body_.yMin = b.get<double>("Y Min"); body_.yMax = b.get<double>("Y Max");
-  body_.particlesPerCellX = positiveInt(b, "Body", "Particles Per Cell X");
-  body_.particlesPerCellY = positiveInt(b, "Body", "Particles Per Cell Y");
   shape_ = deck_.sublist("Method").get<std::string>("Shape Function");
-  if (shape_ == "FE Q4") body_.placement = Placement::GaussQ4;
-  if (shape_ == "FE Q9") body_.placement = Placement::GaussQ9;
-  if (!(body_.xMax > body_.xMin)) throw DeckError("'Body/X Max' must exceed 'Body/X Min'");
-  if (!(body_.yMax > body_.yMin)) throw DeckError("'Body/Y Max' must exceed 'Body/Y Min'");
-  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
-  if (body_.xMin < grid_.x0 - tolx) throw DeckError("particles outside the grid: 'Body/X Min' = " + fmt(body_.xMin) + " is left of the grid origin " + fmt(grid_.x0));
-  if (body_.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: 'Body/X Max' = " + fmt(body_.xMax) + " is beyond the grid's right edge " + fmt(grid_.xMax()));
-  if (body_.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: 'Body/Y Min' = " + fmt(body_.yMin) + " is below the grid origin " + fmt(grid_.y0));
-  if (body_.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: 'Body/Y Max' = " + fmt(body_.yMax) + " is above the grid's top edge " + fmt(grid_.yMax()));
-  for (auto [key, v, o, h] : {std::make_tuple("X Min", body_.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", body_.xMax, grid_.x0, grid_.hx),
-                              std::make_tuple("Y Min", body_.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", body_.yMax, grid_.y0, grid_.hy)})
-    if (!onGridLine(v, o, h)) throw DeckError(std::string("'Body/") + key + "' = " + fmt(v) + " is not on a grid line");
+  if (shape_ == "FE Q4") placement_ = Placement::GaussQ4;
+  if (shape_ == "FE Q9") placement_ = Placement::GaussQ9;
+  buildMaterialsAndBodies();
 
-  if (shape_ == "FE Q9") {  // elements of 2 x 2 cells, the body made of whole elements
-    if (grid_.nx % 2 || grid_.ny % 2)
-      throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
-                      std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
-    for (auto [key, v, o, h] : {std::make_tuple("X Min", body_.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", body_.xMax, grid_.x0, grid_.hx),
-                                std::make_tuple("Y Min", body_.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", body_.yMax, grid_.y0, grid_.hy)})
-      if (std::lround((v - o) / h) % 2)
-        throw DeckError(std::string("'Body/") + key + "' = " + fmt(v) + " is not on an element edge of FE Q9 (an even grid line)");
-  }
-
-  // Integrator.
   const ParameterList& in = deck_.sublist("Integrator");
   dt_ = positive(in, "Integrator", "Time Step");
   steps_ = positiveInt(in, "Integrator", "Number of Steps");
+
+  std::vector<ConstraintSpec> cspecs = buildConstraints();
+  dist_ = std::make_unique<GridDistribution>(grid_, comm_);
+  try {
+    particles_ = createParticles(bodies_, materials_, *dist_, placement_, thickness_);
+  } catch (const std::invalid_argument& e) {
+    throw DeckError(e.what());
+  }
+  constraints_ = NodalConstraints(cspecs, *dist_);
+
+  // Initial conditions, before the integrators (an implicit one computes a(0) from this state).
+  // The standing wave is one mode of the first body (or Exact Solution/Body).
+  const ParameterList& ic = deck_.sublist("Initial Conditions");
+  const std::string icType = ic.get<std::string>("Type");
+  const double icAmplitude = ic.get<double>("Amplitude");
+  const int icMode = ic.get<int>("Mode");
+  if (icType == "Standing Wave") {
+    if (!(icAmplitude != 0.0 && std::isfinite(icAmplitude)))
+      throw DeckError("'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
+                      fmt(icAmplitude));
+    if (icMode < 1)
+      throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " + std::to_string(icMode));
+    const BodySpec& b = bodyNamed("Exact Solution/Body", deck_.sublist("Exact Solution").get<std::string>("Body"));
+    if (!b.rectangle) throw DeckError("'Initial Conditions/Type' = Standing Wave needs a Rectangle body: 'Bodies/" + b.name + "' is not one");
+    if (bodies_.size() > 1)
+      throw DeckError("'Initial Conditions/Type' = Standing Wave is one mode of a single bar: the deck has " +
+                      std::to_string(bodies_.size()) + " bodies");
+    applyStandingWaveVelocity(particles_, b.rect.xMin, b.rect.length(), icAmplitude, icMode);
+  }
+
+  std::vector<LoadSpec> lspecs = buildLoads();
+
+  const ParameterList& ml = deck_.sublist("Monitors");
+  for (auto it = ml.begin(); it != ml.end(); ++it) {
+    const ParameterList& mp = ml.sublist(ml.name(it));
+    Monitor mon;
+    mon.name = ml.name(it);
+    mon.quantity = mp.get<std::string>("Quantity");
+    nearestParticle(mp.get<double>("X"), mp.get<double>("Y"), mon);
+    monitors_.push_back(mon);
+  }
+  energyHistory_ = deck_.sublist("Output").get<bool>("Energy And Momentum");
+
+  ExactContext context;
+  context.bodies = bodies_;
+  context.materials = &materials_;
+  context.thickness = thickness_;
+  context.loads = lspecs;
+  context.constraints = cspecs;
+  context.initialCondition = icType;
+  context.initialAmplitude = icAmplitude;
+  context.initialMode = icMode;
+  context.dt = dt_;
+  context.steps = steps_;
+  exact_ = makeExactReference(deck_.sublist("Exact Solution"), context);
+
+  buildIntegrator();
+}
+
+const BodySpec& Simulation::bodyNamed(const std::string& key, const std::string& name) const {
+  if (name.empty()) return bodies_.front();
+  for (const auto& b : bodies_)
+    if (b.name == name) return b;
+  throw DeckError("'" + key + "' = '" + name + "' names no entry of Bodies");
+}
+
+void Simulation::buildMaterialsAndBodies() {
+  const ParameterList& ms = deck_.sublist("Materials");
+  std::vector<ElasticParameters> params;
+  for (auto it = ms.begin(); it != ms.end(); ++it) {
+    const std::string name = ms.name(it), key = "Materials/" + name;
+    const ParameterList& m = ms.sublist(name);
+    ElasticParameters p;
+    p.E = positive(m, key, "Young Modulus");
+    p.density = positive(m, key, "Density");
+    p.nu = m.get<double>("Poisson Ratio");
+    if (!(p.nu > -1.0 && p.nu < 0.5))
+      throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + fmt(p.nu));
+    params.push_back(p);
+    materialNames_.push_back(name);
+  }
+  const PlaneCondition plane = deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress"
+                                   ? PlaneCondition::PlaneStress
+                                   : PlaneCondition::PlaneStrain;
+  if (params.empty()) throw DeckError("'Materials' is empty: a deck with Bodies needs at least one material");
+  materials_ = LinearElastic(params, plane);
+
+  if (shape_ == "FE Q9" && (grid_.nx % 2 || grid_.ny % 2))
+    throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
+                    std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
+  const ParameterList& bs = deck_.sublist("Bodies");
+  if (bs.numParams() == 0) throw DeckError("'Bodies' is empty: add at least one body");
+  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
+  for (auto it = bs.begin(); it != bs.end(); ++it) {
+    const std::string name = bs.name(it), key = "Bodies/" + name;
+    const ParameterList& b = bs.sublist(name);
+    BodySpec body;
+    body.name = name;
+    const std::string material = b.get<std::string>("Material");
+    const auto found = std::find(materialNames_.begin(), materialNames_.end(), material);
+    if (found == materialNames_.end()) {
+      std::string known;
+      for (const auto& n : materialNames_) known += (known.empty() ? "'" : ", '") + n + "'";
+      throw DeckError("'" + key + "/Material' = '" + material + "' names no entry of Materials (known: " + known + ")");
+    }
+    body.material = (int)(found - materialNames_.begin());
+    body.rect.particlesPerCellX = positiveInt(b, key, "Particles Per Cell X");
+    body.rect.particlesPerCellY = positiveInt(b, key, "Particles Per Cell Y");
+    body.rect.thickness = thickness_;
+    body.rect.placement = placement_;
+    body.velocityX = b.get<double>("Velocity X");
+    body.velocityY = b.get<double>("Velocity Y");
+    const std::string shape = b.get<std::string>("Shape");
+    if (placement_ != Placement::Lattice && shape != "Rectangle")
+      throw DeckError("'" + key + "/Shape' = " + shape + ": 'Method/Shape Function' = " + shape_ +
+                      " places Gauss points in Rectangle bodies only");
+    try {
+      if (shape == "Rectangle") {
+        RectangularBody& r = body.rect;
+        r.xMin = b.get<double>("X Min"); r.xMax = b.get<double>("X Max");
+        r.yMin = b.get<double>("Y Min"); r.yMax = b.get<double>("Y Max");
+        if (!(r.xMax > r.xMin)) throw DeckError("'" + key + "/X Max' must exceed '" + key + "/X Min'");
+        if (!(r.yMax > r.yMin)) throw DeckError("'" + key + "/Y Max' must exceed '" + key + "/Y Min'");
+        if (r.xMin < grid_.x0 - tolx) throw DeckError("particles outside the grid: '" + key + "/X Min' = " + fmt(r.xMin) + " is left of the grid origin " + fmt(grid_.x0));
+        if (r.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: '" + key + "/X Max' = " + fmt(r.xMax) + " is beyond the grid's right edge " + fmt(grid_.xMax()));
+        if (r.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + fmt(r.yMin) + " is below the grid origin " + fmt(grid_.y0));
+        if (r.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + fmt(r.yMax) + " is above the grid's top edge " + fmt(grid_.yMax()));
+        for (auto [k, v, o, h] : {std::make_tuple("X Min", r.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", r.xMax, grid_.x0, grid_.hx),
+                                  std::make_tuple("Y Min", r.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", r.yMax, grid_.y0, grid_.hy)}) {
+          if (!onGridLine(v, o, h)) throw DeckError("'" + key + "/" + k + "' = " + fmt(v) + " is not on a grid line");
+          // FE Q9: elements of 2 x 2 cells, the body made of whole elements.
+          if (placement_ == Placement::GaussQ9 && std::lround((v - o) / h) % 2)
+            throw DeckError("'" + key + "/" + k + "' = " + fmt(v) + " is not on an element edge of FE Q9 (an even grid line)");
+        }
+        body.rectangle = true;
+        body.shape = makeRectangle(r.xMin, r.xMax, r.yMin, r.yMax);
+      } else if (shape == "Ellipse") {
+        const double cx = b.get<double>("Center X"), cy = b.get<double>("Center Y");
+        const double rx = positive(b, key, "Radius X"), ry = positive(b, key, "Radius Y");
+        body.shape = makeEllipse(cx, cy, rx, ry);
+      } else if (shape == "Polygon") {
+        const std::string vertices = b.get<std::string>("Vertices");
+        try {
+          body.shape = makePolygon(parsePolygonVertices(vertices));
+        } catch (const std::invalid_argument& e) {
+          throw DeckError("'" + key + "/Vertices': " + e.what());
+        }
+      } else {
+        body.particlesFile = b.get<std::string>("File");
+        if (body.particlesFile.empty()) throw DeckError("'" + key + "/File' must name a particles file for Shape = Particles File");
+        try {
+          readParticlesFile(body.particlesFile, 2, thickness_);  // checked here, before anything runs
+        } catch (const std::exception& e) {
+          throw DeckError("'" + key + "/File': " + e.what());
+        }
+      }
+    } catch (const std::invalid_argument& e) {
+      throw DeckError("'" + key + "': " + e.what());
+    }
+    if (body.shape && !body.rectangle) {
+      double xlo, xhi, ylo, yhi;
+      body.shape->boundingBox(xlo, xhi, ylo, yhi);
+      if (xlo < grid_.x0 - tolx || xhi > grid_.xMax() + tolx || ylo < grid_.y0 - toly || yhi > grid_.yMax() + toly)
+        throw DeckError("particles outside the grid: '" + key + "' (" + body.shape->describe() + ") extends beyond the grid [" +
+                        fmt(grid_.x0) + ", " + fmt(grid_.xMax()) + "] x [" + fmt(grid_.y0) + ", " + fmt(grid_.yMax()) + "]");
+    }
+    bodies_.push_back(body);
+  }
+}
+
+std::vector<ConstraintSpec> Simulation::buildConstraints() {
+  std::vector<ConstraintSpec> specs;
+  const ParameterList& cl = deck_.sublist("Constraints");
+  for (auto it = cl.begin(); it != cl.end(); ++it) {
+    const ParameterList& c = cl.sublist(cl.name(it));
+    ConstraintSpec s;
+    s.name = cl.name(it);
+    const std::string key = "Constraints/" + s.name;
+    s.where = c.get<std::string>("Where");
+    s.face = c.get<std::string>("Face");
+    s.x = c.get<double>("X"); s.y = c.get<double>("Y");
+    s.xMin = c.get<double>("X Min"); s.xMax = c.get<double>("X Max");
+    s.yMin = c.get<double>("Y Min"); s.yMax = c.get<double>("Y Max");
+    const std::string comp = c.get<std::string>("Components");
+    s.fixX = comp.find('x') != std::string::npos;
+    s.fixY = comp.find('y') != std::string::npos;
+    if (s.where == "Node") checkGridNode(key, s.x, s.y);
+    if (s.where == "Face") {
+      const BodySpec& b = bodyNamed(key + "/Body", c.get<std::string>("Body"));
+      if (!b.rectangle) throw DeckError("'" + key + "': Where = Face needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
+      s.body = b.rect;
+    }
+    if (s.where == "Box") {
+      if (!(s.xMax >= s.xMin && s.yMax >= s.yMin))
+        throw DeckError("'" + key + "': the box needs X Max >= X Min and Y Max >= Y Min");
+      if (boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax).empty())
+        throw DeckError("'" + key + "': the box [" + fmt(s.xMin) + ", " + fmt(s.xMax) + "] x [" + fmt(s.yMin) + ", " +
+                        fmt(s.yMax) + "] holds no grid node");
+    }
+    specs.push_back(s);
+  }
+  return specs;
+}
+
+std::vector<LoadSpec> Simulation::buildLoads() {
+  std::vector<LoadSpec> specs;
+  std::vector<long long> loadParticle;
+  const ParameterList& ll = deck_.sublist("Loads");
+  for (auto it = ll.begin(); it != ll.end(); ++it) {
+    const ParameterList& l = ll.sublist(ll.name(it));
+    LoadSpec s;
+    s.name = ll.name(it);
+    const std::string key = "Loads/" + s.name;
+    s.type = l.get<std::string>("Type");
+    s.face = l.get<std::string>("Face");
+    s.x = l.get<double>("X"); s.y = l.get<double>("Y");
+    s.forceX = l.get<double>("Force X"); s.forceY = l.get<double>("Force Y");
+    s.accelerationX = l.get<double>("Acceleration X"); s.accelerationY = l.get<double>("Acceleration Y");
+    const std::string tf = l.get<std::string>("Time Function");
+    s.time.kind = tf == "Sine" ? TimeFunction::Kind::Sine : tf == "Constant" ? TimeFunction::Kind::Constant : TimeFunction::Kind::Step;
+    s.time.omega = l.get<double>("Angular Frequency");
+    s.time.startTime = l.get<double>("Start Time");
+    if (s.time.kind == TimeFunction::Kind::Sine && !(s.time.omega > 0))
+      throw DeckError("'" + key + "/Angular Frequency' must be positive for a Sine load");
+    if (s.type == "Node Force") checkGridNode(key, s.x, s.y);
+    const std::string bodyName = l.get<std::string>("Body");
+    if (s.type == "Face Traction") {
+      const BodySpec& b = bodyNamed(key + "/Body", bodyName);
+      if (!b.rectangle) throw DeckError("'" + key + "': a Face Traction needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
+      s.body = b.rect;
+    }
+    if (s.type == "Body Force" && !bodyName.empty())
+      s.bodyIndex = (int)(&bodyNamed(key + "/Body", bodyName) - bodies_.data());
+    long long particle = -1;
+    if (s.type == "Particle Force") {
+      Monitor m;
+      nearestParticle(s.x, s.y, m);
+      particle = m.particleId;
+    }
+    loadParticle.push_back(particle);
+    specs.push_back(s);
+  }
+  loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size());
+  loads_.locateParticles(particles_);
+  return specs;
+}
+
+void Simulation::buildIntegrator() {
+  const ParameterList& in = deck_.sublist("Integrator");
   const std::string integratorType = in.get<std::string>("Type");
   const ParameterList& ex = in.sublist("Explicit");
   ExplicitOptions eopt;
@@ -133,162 +353,12 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     const double factor = positive(ex, "Integrator/Explicit", "Stability Factor");
     // Bilinear cells with lumped mass: omega_max = 2 c_p sqrt(1/hx^2 + 1/hy^2), so dt_crit =
     // 1 / (c_p sqrt(1/hx^2 + 1/hy^2)); h_min / c_p overestimates it (by 12% on the beam's 2:1
-    // cells, where 0.9 h_min / c_p was measured to blow up).
-    const double limit = factor / (material_.pWaveSpeed() * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
+    // cells, where 0.9 h_min / c_p was measured to blow up). c_p: the fastest material's.
+    const double cp = materials_.maxPWaveSpeed();
+    const double limit = factor / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
     if (integratorType == "Explicit" && dt_ > limit)
       throw DeckError("'Integrator/Time Step' = " + fmt(dt_) + " exceeds the explicit stable limit " + fmt(limit) +
-                      " (Stability Factor / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed " + fmt(material_.pWaveSpeed()) + " m/s)");
-  }
-
-  // Loads and constraints: names and positions checked against the grid.
-  auto nodeOf = [&](const std::string& where, double x, double y) {
-    if (!onGridLine(x, grid_.x0, grid_.hx) || !onGridLine(y, grid_.y0, grid_.hy) || x < grid_.x0 - tolx ||
-        x > grid_.xMax() + tolx || y < grid_.y0 - toly || y > grid_.yMax() + toly)
-      throw DeckError("'" + where + "/X', '" + where + "/Y' = (" + fmt(x) + ", " + fmt(y) + ") is not a grid node");
-  };
-  std::vector<ConstraintSpec> cspecs;
-  const ParameterList& cl = deck_.sublist("Constraints");
-  for (auto it = cl.begin(); it != cl.end(); ++it) {
-    const ParameterList& c = cl.sublist(cl.name(it));
-    ConstraintSpec s;
-    s.name = cl.name(it);
-    s.where = c.get<std::string>("Where");
-    s.face = c.get<std::string>("Face");
-    s.x = c.get<double>("X"); s.y = c.get<double>("Y");
-    const std::string comp = c.get<std::string>("Components");
-    s.fixX = comp.find('x') != std::string::npos;
-    s.fixY = comp.find('y') != std::string::npos;
-    if (s.where == "Node") nodeOf("Constraints/" + s.name, s.x, s.y);
-    cspecs.push_back(s);
-  }
-
-  dist_ = std::make_unique<GridDistribution>(grid_, comm_);
-  particles_ = createParticles(body_, material_, *dist_);
-  constraints_ = NodalConstraints(cspecs, body_, *dist_);
-
-  // Initial conditions, before the integrators (an implicit one computes a(0) from this state).
-  const ParameterList& ic = deck_.sublist("Initial Conditions");
-  const std::string icType = ic.get<std::string>("Type");
-  const double icAmplitude = ic.get<double>("Amplitude");
-  const int icMode = ic.get<int>("Mode");
-  if (icType == "Standing Wave") {
-    if (!(icAmplitude != 0.0 && std::isfinite(icAmplitude)))
-      throw DeckError("'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
-                      fmt(icAmplitude));
-    if (icMode < 1)
-      throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " + std::to_string(icMode));
-    applyStandingWaveVelocity(particles_, body_.xMin, body_.length(), icAmplitude, icMode);
-  }
-
-  // Nearest particle to a point, over all ranks: (owner rank, local index, x0, y0).
-  auto nearest = [&](double px, double py, int& owner, int& local, double& x0, double& y0) {
-    auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
-    double best = std::numeric_limits<double>::max();
-    local = -1;
-    for (int p = 0; p < particles_.count; ++p) {
-      const double d = std::hypot(xh(p, 0) - px, xh(p, 1) - py);
-      if (d < best - 1e-15 * (1 + d)) { best = d; local = p; }
-    }
-    double gbest = 0;
-    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, best, Teuchos::outArg(gbest));
-    const int candidate = (local >= 0 && best == gbest) ? comm_->getRank() : comm_->getSize();
-    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, candidate, Teuchos::outArg(owner));
-    double pos[2] = {0, 0}, gpos[2];
-    if (owner == comm_->getRank()) { pos[0] = xh(local, 0); pos[1] = xh(local, 1); } else { local = -1; }
-    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 2, pos, gpos);
-    x0 = gpos[0]; y0 = gpos[1];
-  };
-
-  std::vector<LoadSpec> lspecs;
-  std::vector<int> loadParticle;
-  const ParameterList& ll = deck_.sublist("Loads");
-  for (auto it = ll.begin(); it != ll.end(); ++it) {
-    const ParameterList& l = ll.sublist(ll.name(it));
-    LoadSpec s;
-    s.name = ll.name(it);
-    s.type = l.get<std::string>("Type");
-    s.face = l.get<std::string>("Face");
-    s.x = l.get<double>("X"); s.y = l.get<double>("Y");
-    s.forceX = l.get<double>("Force X"); s.forceY = l.get<double>("Force Y");
-    const std::string tf = l.get<std::string>("Time Function");
-    s.time.kind = tf == "Sine" ? TimeFunction::Kind::Sine : tf == "Constant" ? TimeFunction::Kind::Constant : TimeFunction::Kind::Step;
-    s.time.omega = l.get<double>("Angular Frequency");
-    s.time.startTime = l.get<double>("Start Time");
-    if (s.time.kind == TimeFunction::Kind::Sine && !(s.time.omega > 0))
-      throw DeckError("'Loads/" + s.name + "/Angular Frequency' must be positive for a Sine load");
-    if (s.type == "Node Force") nodeOf("Loads/" + s.name, s.x, s.y);
-    int owner = -1, local = -1;
-    if (s.type == "Particle Force") {
-      double x0, y0;
-      nearest(s.x, s.y, owner, local, x0, y0);
-    }
-    loadParticle.push_back(local);
-    lspecs.push_back(s);
-  }
-  loads_ = LoadSet(lspecs, body_, *dist_, loadParticle);
-
-  const ParameterList& ml = deck_.sublist("Monitors");
-  for (auto it = ml.begin(); it != ml.end(); ++it) {
-    const ParameterList& mp = ml.sublist(ml.name(it));
-    Monitor mon;
-    mon.name = ml.name(it);
-    mon.quantity = mp.get<std::string>("Quantity");
-    nearest(mp.get<double>("X"), mp.get<double>("Y"), mon.owner, mon.localIndex, mon.x0, mon.y0);
-    monitors_.push_back(mon);
-  }
-
-  // Exact solution, with the modulus it is asked to use.
-  const ParameterList& e = deck_.sublist("Exact Solution");
-  exactType_ = e.get<std::string>("Type");
-  exactSeries_ = e.get<std::string>("Form") == "Series";
-  exactTerms_ = positiveInt(e, "Exact Solution", "Series Terms");
-  exactModulus_ = e.get<std::string>("Modulus") == "Young Modulus" ? material_.E : material_.barModulus();
-  if (exactType_ == "Bar Standing Wave") {
-    // The exact solution holds for this initial state, both ends fixed in x and no loads.
-    if (icType != "Standing Wave")
-      throw DeckError("'Exact Solution/Type' = Bar Standing Wave needs 'Initial Conditions/Type' = Standing Wave, got " + icType);
-    if (!lspecs.empty())
-      throw DeckError("'Exact Solution/Type' = Bar Standing Wave is free vibration: the deck must have no Loads (found '" +
-                      lspecs.front().name + "')");
-    for (const std::string face : {"x-", "x+"}) {
-      bool fixed = false;
-      for (const auto& c : cspecs) fixed = fixed || (c.where == "Face" && c.face == face && c.fixX);
-      if (!fixed)
-        throw DeckError("'Exact Solution/Type' = Bar Standing Wave needs a constraint fixing x on face " + face +
-                        " of the body (Constraints: Where = Face, Face = " + face + ", Components = x or xy)");
-    }
-    wave_ = BarStandingWaveExact{body_.length(), exactModulus_, material_.density, icAmplitude, icMode};
-  } else if (hasExact()) {
-    const std::string loadName = e.get<std::string>("Load");
-    const LoadSpec* load = nullptr;
-    for (const auto& s : lspecs) if (s.name == loadName) load = &s;
-    if (!load) throw DeckError("'Exact Solution/Load' = '" + loadName + "' names no entry of Loads");
-    const double A = body_.height() * body_.thickness;
-    if (exactType_ == "Bar Step Load") {
-      bar_ = BarStepExact{body_.length(), A, exactModulus_, material_.density, load->forceX};
-    } else {
-      const double I = body_.thickness * std::pow(body_.height(), 3) / 12.0;
-      beam_ = BeamHarmonicExact{body_.length(), load->x - body_.xMin, exactModulus_, I, material_.density * A,
-                                load->forceY, load->time.omega};
-      neutralAxisY_ = 0.5 * (body_.yMin + body_.yMax);
-      timoshenko_ = e.get<std::string>("Beam Theory") == "Timoshenko";
-      if (timoshenko_) {
-        const double kappa = positive(e, "Exact Solution", "Shear Coefficient");
-        const double G = material_.E / (2.0 * (1.0 + material_.nu));
-        timo_ = TimoshenkoBeamHarmonic{body_.length(), load->x - body_.xMin, exactModulus_, G, kappa, A, I,
-                                       material_.density, load->forceY, load->time.omega};
-      }
-      if (e.get<std::string>("Time Discretisation") == "Newmark") {
-        // The whole history once per monitor (deflection only), indexed by step.
-        const int terms = std::min(exactTerms_, 400);
-        for (const auto& mon : monitors_) {
-          const double x = mon.x0 - body_.xMin;
-          newmarkHistory_.push_back(mon.quantity != "Displacement Y" ? std::vector<double>()
-                                    : timoshenko_ ? timo_.deflectionHistoryNewmark(x, dt_, steps_, terms)
-                                                  : deflectionHistoryNewmark(beam_, x, dt_, steps_, terms));
-        }
-      }
-    }
+                      " (Stability Factor / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed " + fmt(cp) + " m/s)");
   }
 
   const bool gimp = shape_ == "GIMP", fe = shape_ == "FE Q4" || shape_ == "FE Q9";
@@ -320,22 +390,46 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
       throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
     iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
     try {
-      if (gimp) integrator_ = std::make_unique<ImplicitNewmark<UniformGimp>>(particles_, *dist_, material_, constraints_, loads_, iopt);
-      else if (shape_ == "FE Q9") integrator_ = std::make_unique<ImplicitNewmark<QuadraticLagrange>>(particles_, *dist_, material_, constraints_, loads_, iopt);
-      else integrator_ = std::make_unique<ImplicitNewmark<LinearMpm>>(particles_, *dist_, material_, constraints_, loads_, iopt);
+      if (gimp) integrator_ = std::make_unique<ImplicitNewmark<UniformGimp>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      else if (shape_ == "FE Q9") integrator_ = std::make_unique<ImplicitNewmark<QuadraticLagrange>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      else integrator_ = std::make_unique<ImplicitNewmark<LinearMpm>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
     } catch (const std::invalid_argument& e) {
       throw DeckError(e.what());
     }
   } else if (gimp) {
-    integrator_ = std::make_unique<ExplicitStepper<UniformGimp>>(particles_, *dist_, material_, constraints_, loads_, eopt);
+    integrator_ = std::make_unique<ExplicitStepper<UniformGimp>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
   } else {
-    integrator_ = std::make_unique<ExplicitStepper<LinearMpm>>(particles_, *dist_, material_, constraints_, loads_, eopt);
+    integrator_ = std::make_unique<ExplicitStepper<LinearMpm>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
   }
 }
 
-// A rank maps its particles onto its ghosted node columns; a particle that wandered beyond
-// them (or off the grid) would be mapped to the wrong nodes. Particle migration between ranks
-// is not implemented: stop with a clear message instead.
+void Simulation::nearestParticle(double px, double py, Monitor& m) const {
+  auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
+  auto idh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
+  double best = std::numeric_limits<double>::max();
+  int local = -1;
+  for (int p = 0; p < particles_.count; ++p) {
+    const double d = std::hypot(xh(p, 0) - px, xh(p, 1) - py);
+    if (d < best - 1e-15 * (1 + d)) { best = d; local = p; }
+  }
+  double gbest = 0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, best, Teuchos::outArg(gbest));
+  const int candidate = (local >= 0 && best == gbest) ? comm_->getRank() : comm_->getSize();
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, candidate, Teuchos::outArg(m.owner));
+  double pos[3] = {0, 0, 0}, gpos[3];
+  if (m.owner == comm_->getRank()) {
+    pos[0] = xh(local, 0); pos[1] = xh(local, 1); pos[2] = (double)idh(local);
+  } else {
+    local = -1;
+  }
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 3, pos, gpos);
+  m.localIndex = local;
+  m.x0 = gpos[0]; m.y0 = gpos[1];
+  m.particleId = std::llround(gpos[2]);
+}
+
+// A rank maps its particles onto its ghosted node columns; after migration every particle is in
+// its rank's slab, so this catches particles that left the grid (or a ghost band too narrow).
 void Simulation::checkParticlesInReach(double t) const {
   const StructuredGrid g = grid_;
   const LocalNodeIndexer ix = dist_->ghostedIndexer();
@@ -359,7 +453,18 @@ void Simulation::checkParticlesInReach(double t) const {
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, outside, Teuchos::outArg(total));
   if (total > 0)
     throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the columns their MPI rank maps at t = " +
-                             fmt(t) + " s (particle migration between ranks is not implemented: use a larger grid or fewer ranks)");
+                             fmt(t) + " s (use a larger grid)");
+}
+
+void Simulation::locateMonitors() {
+  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
+  for (auto& m : monitors_) {
+    m.localIndex = -1;
+    for (int p = 0; p < particles_.count && m.localIndex < 0; ++p)
+      if (id(p) == m.particleId) m.localIndex = p;
+    const int here = m.localIndex >= 0 ? comm_->getRank() : comm_->getSize();
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, here, Teuchos::outArg(m.owner));
+  }
 }
 
 double Simulation::monitorValue(const Monitor& mon) const {
@@ -382,29 +487,7 @@ double Simulation::monitorValue(const Monitor& mon) const {
 }
 
 double Simulation::exactValue(const Monitor& mon, double t) const {
-  const std::string& q = mon.quantity;
-  const double NaN = std::numeric_limits<double>::quiet_NaN();
-  if (exactType_ == "Bar Step Load") {
-    const double x = mon.x0 - body_.xMin;
-    if (q == "Displacement X") return exactSeries_ ? bar_.displacementSeries(x, t, exactTerms_) : bar_.displacementClosed(x, t);
-    if (q == "Stress XX") return exactSeries_ ? bar_.stressSeries(x, t, exactTerms_) : bar_.stressClosed(x, t);
-  } else if (exactType_ == "Bar Standing Wave") {
-    const double x = mon.x0 - body_.xMin;
-    if (q == "Displacement X") return wave_.displacement(x, t);
-    if (q == "Velocity X") return wave_.velocity(x, t);
-    if (q == "Stress XX") return wave_.stress(x, t);
-  } else if (exactType_ == "Simply Supported Beam") {
-    const double x = mon.x0 - body_.xMin;
-    const int terms = std::min(exactTerms_, 400);
-    if (!newmarkHistory_.empty()) {
-      const auto& h = newmarkHistory_[&mon - monitors_.data()];
-      const long k = std::lround(t / dt_);
-      return k >= 0 && k < (long)h.size() ? h[k] : NaN;
-    }
-    if (q == "Displacement Y") return timoshenko_ ? timo_.deflection(x, t, terms) : beam_.deflection(x, t, terms);
-    if (q == "Stress XX" && !timoshenko_) return beam_.bendingStress(x, mon.y0 - neutralAxisY_, t, terms);
-  }
-  return NaN;
+  return exact_ ? exact_->value(mon.quantity, mon.x0, mon.y0, t) : std::numeric_limits<double>::quiet_NaN();
 }
 
 RunResult Simulation::run(std::ostream& log) {
@@ -426,6 +509,7 @@ RunResult Simulation::run(std::ostream& log) {
   std::vector<bool> withExact;
   for (const auto& mon : monitors_) withExact.push_back(hasExact() && !std::isnan(exactValue(mon, dt_)));
 
+  double momentumScale = 0;  // sum m |v| at t = 0
   std::ofstream csv;
   if (rank == 0) {
     csv.open(outputDir_ + "/history.csv");
@@ -434,6 +518,7 @@ RunResult Simulation::run(std::ostream& log) {
       csv << ',' << monitors_[k].name;
       if (withExact[k]) csv << ',' << monitors_[k].name << "_exact";
     }
+    if (energyHistory_) csv << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y";
     csv << '\n' << std::setprecision(10);
   }
   auto record = [&](double t) {
@@ -451,6 +536,16 @@ RunResult Simulation::run(std::ostream& log) {
         r.exact[monitors_[k].name].push_back(ex);
         if (rank == 0) csv << ',' << ex;
       }
+    }
+    if (energyHistory_) {
+      const ParticleTotals e = particleTotals<ExecutionSpace>(particles_, materials_.law(), *comm_);
+      r.kinetic.push_back(e.kinetic);
+      r.strain.push_back(e.strain);
+      r.momentumX.push_back(e.momentum[0]);
+      r.momentumY.push_back(e.momentum[1]);
+      if (r.time.size() == 1) momentumScale = e.momentumScale;
+      if (rank == 0)
+        csv << ',' << e.kinetic << ',' << e.strain << ',' << e.total() << ',' << e.momentum[0] << ',' << e.momentum[1];
     }
     if (rank == 0) csv << '\n';
   };
@@ -488,6 +583,11 @@ RunResult Simulation::run(std::ostream& log) {
                                " s) is in " + outputDir_);
     }
     const double tNew = (n + 1) * dt_;
+    if (migrateParticles(particles_, *dist_) > 0) {
+      // Local indices changed: find the monitored and loaded particles by global id.
+      loads_.locateParticles(particles_);
+      locateMonitors();
+    }
     checkParticlesInReach(tNew);
     if ((n + 1) % historyInterval == 0 || n + 1 == steps_) record(tNew);
     if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);
@@ -518,22 +618,29 @@ RunResult Simulation::run(std::ostream& log) {
     for (size_t i = 0; i < c.size(); ++i) { num += (c[i] - e[i]) * (c[i] - e[i]); den += e[i] * e[i]; }
     r.relativeL2[monitors_[k].name] = den > 0 ? std::sqrt(num / den) : std::sqrt(num);
   }
+  if (energyHistory_ && !r.time.empty()) {
+    const double e0 = r.kinetic.front() + r.strain.front();
+    const double scale = e0 != 0 ? std::abs(e0) : 1.0;
+    r.energyRelativeDrift = (r.kinetic.back() + r.strain.back() - e0) / scale;
+    const double p0x = r.momentumX.front(), p0y = r.momentumY.front();
+    const double pscale = momentumScale > 0 ? momentumScale : 1.0;
+    for (size_t i = 0; i < r.time.size(); ++i) {
+      r.energyMaxRelativeDeviation = std::max(r.energyMaxRelativeDeviation, std::abs(r.kinetic[i] + r.strain[i] - e0) / scale);
+      r.momentumMaxRelativeChange =
+          std::max(r.momentumMaxRelativeChange, std::hypot(r.momentumX[i] - p0x, r.momentumY[i] - p0y) / pscale);
+    }
+  }
   if (rank == 0) {
     writeSummary(r);
     log << deck_.sublist("Problem").get<std::string>("Name") << ": " << integrator_->name() << ", "
-        << material_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in " << std::setprecision(3)
+        << materials_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in " << std::setprecision(3)
         << r.wallSeconds << " s (" << r.particleStepsPerSecond / 1e6 << " M particle-steps/s)\n";
     for (const auto& [name, err] : r.relativeL2)
       log << "  relative L2 error of " << name << " against the exact solution (modulus " << std::setprecision(4)
-          << exactModulus_ << " Pa): " << std::setprecision(3) << 100 * err << " %\n";
-    if (out.get<bool>("Plot") && hasExact()) {
-      const char* env = std::getenv("IMPM_PLOT_SCRIPT");
-      const std::string script = env ? env : IMPM_PLOT_SCRIPT;
-      const std::string title = deck_.sublist("Problem").get<std::string>("Name");
-      const std::string cmd = "/usr/bin/python3 '" + script + "' '" + outputDir_ + "' --title '" + title + "'";
-      if (std::system(cmd.c_str()) != 0) log << "  warning: the plot could not be written (" << cmd << ")\n";
-      else log << "  plot: " << outputDir_ << "/plot.png\n";
-    }
+          << exactModulus() << " Pa): " << std::setprecision(3) << 100 * err << " %\n";
+    if (energyHistory_)
+      log << "  total energy drift " << std::setprecision(3) << r.energyRelativeDrift << " (max deviation "
+          << r.energyMaxRelativeDeviation << "), momentum max relative change " << r.momentumMaxRelativeChange << "\n";
   }
   return r;
 }
@@ -543,7 +650,9 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Problem", deck_.sublist("Problem").get<std::string>("Name"));
   s.set("Method", deck_.sublist("Method").get<std::string>("Shape Function"));
   s.set("Integrator", integrator_->name());
-  s.set("Plane Condition", material_.planeName());
+  s.set("Plane Condition", materials_.planeName());
+  s.set("Bodies", (int)bodies_.size());
+  s.set("Materials", materials_.count());
   s.set("Particles", (int)r.particles);
   s.set("Steps", r.steps);
   s.set("Time Step", dt_);
@@ -554,16 +663,25 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Wall Time", r.wallSeconds);
   s.set("Particle Steps Per Second", r.particleStepsPerSecond);
   s.set("Status", r.status);
-  s.set("Exact Solution", exactType_);
-  if (hasExact()) {
-    s.set("Exact Modulus", exactModulus_);
-    if (exactType_ == "Simply Supported Beam") {
-      s.set("Exact Beam Theory", timoshenko_ ? std::string("Timoshenko") : std::string("Euler-Bernoulli"));
-      s.set("Exact Time Discretisation", newmarkHistory_.empty() ? std::string("Exact") : std::string("Newmark"));
-    }
-    if (exactType_ == "Bar Standing Wave") s.set("Exact Angular Frequency", wave_.omega());
+  s.set("Exact Solution", exact_ ? exact_->type() : std::string("None"));
+  if (exact_) {
+    s.set("Exact Modulus", exact_->modulus());
+    exact_->addSummary(s);
     ParameterList& err = s.sublist("Relative L2 Error");
     for (const auto& [name, e] : r.relativeL2) err.set(name, e);
+  }
+  if (energyHistory_ && !r.time.empty()) {
+    ParameterList& e = s.sublist("Energy");
+    e.set("Initial Total", r.kinetic.front() + r.strain.front());
+    e.set("Final Total", r.kinetic.back() + r.strain.back());
+    e.set("Total Relative Drift", r.energyRelativeDrift);
+    e.set("Max Relative Deviation", r.energyMaxRelativeDeviation);
+    ParameterList& m = s.sublist("Momentum");
+    m.set("Initial X", r.momentumX.front());
+    m.set("Initial Y", r.momentumY.front());
+    m.set("Final X", r.momentumX.back());
+    m.set("Final Y", r.momentumY.back());
+    m.set("Max Relative Change", r.momentumMaxRelativeChange);
   }
   // Where each monitor sits (its particle's reference position), so that studies can evaluate
   // other reference solutions at the same point.
@@ -571,10 +689,16 @@ void Simulation::writeSummary(const RunResult& r) const {
   for (const auto& m : monitors_) {
     ParameterList& e = mons.sublist(m.name);
     e.set("Quantity", m.quantity);
+    e.set("Particle Id", (long long)m.particleId);
     e.set("X", m.x0);
     e.set("Y", m.y0);
   }
   integrator_->addStatistics(s);
+  if (PhaseTimer::enabled()) {
+    // Rank 0's totals in seconds (impm --timers prints min/mean/max over ranks).
+    ParameterList& timers = s.sublist("Timers");
+    for (const auto& [name, timer] : PhaseTimer::timers()) timers.set(name, timer->totalElapsedTime());
+  }
   const std::string path = outputDir_ + "/summary.yaml";
   Teuchos::writeParameterListToYamlFile(s, path + ".tmp");
   std::filesystem::rename(path + ".tmp", path);

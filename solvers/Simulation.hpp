@@ -1,6 +1,7 @@
-// One run of an input deck: builds the grid, particles, material, constraints, loads,
-// monitors, exact solution and integrator from a validated deck (every semantic check
-// happens here, before anything is written), then integrates and writes the outputs.
+// One run of an input deck: builds the grid, materials, bodies and their particles,
+// constraints, loads, monitors, the exact solution and the integrator from a validated deck
+// (every semantic check happens here, before anything is written), then integrates and writes
+// history.csv, summary.yaml and the ParaView files. Plots are the driver's business (apps/).
 #pragma once
 
 #include <Teuchos_Comm.hpp>
@@ -15,19 +16,21 @@
 #include "core/ParticleSet.hpp"
 #include "physics/Body.hpp"
 #include "physics/Constraints.hpp"
-#include "physics/BeamTheories.hpp"
-#include "physics/ExactSolutions.hpp"
+#include "physics/ExactReference.hpp"
 #include "physics/LinearElastic.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
 
 namespace impm {
 
+// A particle quantity followed over the run: the particle nearest a point at t = 0, found by
+// its global id.
 struct Monitor {
   std::string name, quantity;
-  int owner = -1;          // rank that holds the particle
-  int localIndex = -1;     // particle index on that rank
-  double x0 = 0, y0 = 0;   // its reference position (where the exact solution is evaluated)
+  long long particleId = -1;  // global id of the particle
+  int owner = -1;             // rank that holds the particle
+  int localIndex = -1;        // its index on that rank
+  double x0 = 0, y0 = 0;      // its reference position (where the exact solution is evaluated)
 };
 
 struct RunResult {
@@ -39,6 +42,9 @@ struct RunResult {
   std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history
   std::vector<double> time;                  // the recorded history
   std::map<std::string, std::vector<double>> computed, exact;
+  // With Output/Energy And Momentum: per recorded time, and the drifts of summary.yaml.
+  std::vector<double> kinetic, strain, momentumX, momentumY;
+  double energyRelativeDrift = 0, energyMaxRelativeDeviation = 0, momentumMaxRelativeChange = 0;
 };
 
 class Simulation {
@@ -54,43 +60,48 @@ class Simulation {
 
   const ParticleSet& particles() const { return particles_; }
   const GridDistribution& distribution() const { return *dist_; }
-  const LinearElastic& material() const { return material_; }
+  const LinearElastic& materials() const { return materials_; }
+  const std::vector<BodySpec>& bodies() const { return bodies_; }
   const std::string& outputDirectory() const { return outputDir_; }
-  double exactModulus() const { return exactModulus_; }
+  bool hasExact() const { return exact_ != nullptr; }
+  double exactModulus() const { return exact_ ? exact_->modulus() : 0.0; }
 
  private:
-  bool hasExact() const { return exactType_ != "None"; }
+  void buildMaterialsAndBodies();
+  std::vector<ConstraintSpec> buildConstraints();
+  std::vector<LoadSpec> buildLoads();
+  void buildIntegrator();
   double monitorValue(const Monitor& m) const;
   void checkParticlesInReach(double t) const;
   double exactValue(const Monitor& m, double t) const;
   void writeSummary(const RunResult& r) const;
+  // The particle nearest (px, py) at t = 0 over all ranks.
+  void nearestParticle(double px, double py, Monitor& m) const;
+  // After migration: each monitor's rank and local index from its global id.
+  void locateMonitors();
+  const BodySpec& bodyNamed(const std::string& key, const std::string& name) const;
+  void checkGridNode(const std::string& where, double x, double y) const;
 
   Teuchos::ParameterList deck_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   std::string outputDir_;
   StructuredGrid grid_;
-  LinearElastic material_;
-  RectangularBody body_;
+  double thickness_ = 1;
+  LinearElastic materials_;
+  std::vector<std::string> materialNames_;
+  std::vector<BodySpec> bodies_;
   std::string shape_;  // Method/Shape Function
+  Placement placement_ = Placement::Lattice;
   std::unique_ptr<GridDistribution> dist_;
   ParticleSet particles_;
   NodalConstraints constraints_;
   LoadSet loads_;
   std::vector<Monitor> monitors_;
   std::unique_ptr<Integrator> integrator_;
+  std::unique_ptr<ExactReference> exact_;
   double dt_ = 0;
   int steps_ = 0;
-  std::string exactType_ = "None";
-  double exactModulus_ = 0;
-  BarStepExact bar_{};
-  BarStandingWaveExact wave_{};
-  BeamHarmonicExact beam_{};
-  bool timoshenko_ = false;
-  TimoshenkoBeamHarmonic timo_{};
-  std::vector<std::vector<double>> newmarkHistory_;  // per monitor, per step (Time Discretisation: Newmark)
-  bool exactSeries_ = false;
-  int exactTerms_ = 2000;
-  double neutralAxisY_ = 0;
+  bool energyHistory_ = false;
 };
 
 }  // namespace impm

@@ -2,14 +2,16 @@
 # the key, and must leave no output directory. Invoked by ctest (impm_bad_deck_cli).
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
-file(READ "${SRC}/../apps/bar_explicit_mpm_plane_stress.yaml" good)
+file(READ "${SRC}/../apps/bar_explicit_mpm_plane_stress.yaml" good_bar)
+file(READ "${SRC}/../apps/colliding_disks_explicit_mpm.yaml" good_disks)
+set(good "${good_bar}")
 
 function(expect_failure name search replace key)
   string(REPLACE "${search}" "${replace}" deck "${good}")
   if(deck STREQUAL good)
     message(FATAL_ERROR "${name}: the test could not corrupt the deck ('${search}' not found)")
   endif()
-  string(REPLACE "Output Directory: output/bar_explicit_mpm_plane_stress" "Output Directory: ${WORK}/out_${name}" deck "${deck}")
+  string(REGEX REPLACE "Output Directory: [^\n]*" "Output Directory: ${WORK}/out_${name}" deck "${deck}")
   file(WRITE "${WORK}/${name}.yaml" "${deck}")
   execute_process(COMMAND "${IMPM}" "${WORK}/${name}.yaml" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(rc EQUAL 0)
@@ -40,3 +42,12 @@ expect_failure(unstable "Time Step: 1.0e-8" "Time Step: 1.0e-6" "Integrator/Time
 expect_failure(bad_choice "Update Scheme: USL" "Update Scheme: USX" "Integrator/Explicit/Update Scheme")
 expect_failure(bad_preconditioner "  Output:" "  Implicit Solver:\n    Preconditioner: MAGIC\n  Output:" "Implicit Solver/Preconditioner")
 expect_failure(negative_tolerance "  Output:" "  Implicit Solver:\n    Displacement Tolerance: -1.0e-8\n  Output:" "Implicit Solver/Displacement Tolerance")
+
+# The Materials / Bodies form (issue 8), on the colliding-disks deck.
+set(good "${good_disks}")
+expect_failure(unknown_material "      Material: elastic\n      Center X: 0.75" "      Material: rubber\n      Center X: 0.75" "Bodies/upper disk/Material")
+expect_failure(disk_outside "Center X: 0.75" "Center X: 0.85" "Bodies/upper disk")
+expect_failure(crossing_polygon "    upper disk:\n      Shape: Ellipse" "    upper disk:\n      Shape: Polygon\n      Vertices: 0.5, 0.5; 0.9, 0.9; 0.9, 0.5; 0.5, 0.9" "Bodies/upper disk/Vertices")
+expect_failure(empty_polygon "    upper disk:\n      Shape: Ellipse" "    upper disk:\n      Shape: Polygon" "Bodies/upper disk/Vertices")
+expect_failure(missing_file "    upper disk:\n      Shape: Ellipse" "    upper disk:\n      Shape: Particles File\n      File: ${WORK}/no_such.csv" "Bodies/upper disk/File")
+expect_failure(mixed_forms "  Materials:" "  Body:\n    X Max: 0.5\n  Materials:" "'Body' is the single-body form")

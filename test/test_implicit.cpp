@@ -11,7 +11,7 @@
 
 #include "core/InputDeck.hpp"
 #include "physics/Body.hpp"
-#include "physics/Energy.hpp"
+#include "core/kernels/Energy.hpp"
 #include "solvers/ImplicitNewmark.hpp"
 #include "solvers/Simulation.hpp"
 
@@ -65,8 +65,8 @@ double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teucho
   body.placement = placement;
   LinearElastic mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStrain};
   ParticleSet ps = createParticles(body, mat, dist);
-  NodalConstraints bc({ConstraintSpec{"left", "Face", "x-", 0, 0, true, false}}, body, dist);
-  LoadSet loads({}, body, dist, {});
+  NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
+  LoadSet loads({}, dist, {}, 1);
   opt.solverParams = Teuchos::rcp(new ParameterList(NewtonSolver::validParameters()->name()));
   ImplicitNewmark<Shape> model(ps, dist, mat, bc, loads, opt);
   model.prepareStep(0.0, 1e-7);
@@ -133,9 +133,9 @@ TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
     auto v = Kokkos::create_mirror_view(ps.v);
     for (int p = 0; p < ps.count; ++p) { v(p, 0) = 0.1 * std::sin(M_PI * x(p, 0) / (2 * 0.03)); v(p, 1) = 0.0; }
     Kokkos::deep_copy(ps.v, v);
-    NodalConstraints bc({ConstraintSpec{"left", "Face", "x-", 0, 0, true, false},
-                         ConstraintSpec{"pin", "Node", "", 0, 0, false, true}}, body, dist);
-    LoadSet loads({}, body, dist, {});
+    NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false),
+                         ConstraintSpec::atNode("pin", 0, 0, false, true)}, dist);
+    LoadSet loads({}, dist, {}, 1);
     ImplicitOptions opt;
     opt.solverParams = Teuchos::rcp(new ParameterList("Implicit Solver"));
     opt.solverParams->set("Linear Tolerance", 1e-10);
@@ -144,11 +144,11 @@ TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
     if (method == "MPM") stepper = std::make_unique<ImplicitNewmark<LinearMpm>>(ps, dist, mat, bc, loads, opt);
     else stepper = std::make_unique<ImplicitNewmark<UniformGimp>>(ps, dist, mat, bc, loads, opt);
     const double dt = 2e-8;
-    const Energies e0 = particleEnergies<ExecutionSpace>(ps, mat, *comm);
+    const ParticleTotals e0 = particleTotals<ExecutionSpace>(ps, mat.law(), *comm);
     double worst = 0, maxStrain = 0;
     for (int n = 0; n < 100; ++n) {
       stepper->step(n * dt, dt);
-      const Energies e = particleEnergies<ExecutionSpace>(ps, mat, *comm);
+      const ParticleTotals e = particleTotals<ExecutionSpace>(ps, mat.law(), *comm);
       worst = std::max(worst, std::abs(e.total() - e0.total()) / e0.total());
       if (n == 0 || n == 1 || n == 9 || n == 49 || n == 99)
         out << method << (consistentMass ? " consistent" : " lumped") << " step " << n + 1 << ": (E - E0) / E0 = " << (e.total() - e0.total()) / e0.total() << "\n";

@@ -71,7 +71,11 @@ TEUCHOS_UNIT_TEST(InputDeck, DefaultsAreFilledIn) {
   impm::validateDeck(d);
   TEST_EQUALITY_CONST(d.sublist("Integrator").sublist("Explicit").get<std::string>("Update Scheme"), "USL");
   TEST_EQUALITY_CONST(d.sublist("Loads").sublist("pull").get<std::string>("Time Function"), "Step");
-  TEST_FLOATING_EQUALITY(d.sublist("Material").get<double>("Poisson Ratio"), 0.3, 1e-15);
+  // The single-body form is read as the material "Material" and the rectangle "Body".
+  TEST_FLOATING_EQUALITY(d.sublist("Materials").sublist("Material").get<double>("Poisson Ratio"), 0.3, 1e-15);
+  TEST_EQUALITY_CONST(d.sublist("Bodies").sublist("Body").get<std::string>("Shape"), "Rectangle");
+  TEST_FLOATING_EQUALITY(d.sublist("Grid").get<double>("Thickness"), 1e-3, 1e-15);
+  TEST_ASSERT(!d.isSublist("Material") && !d.isSublist("Body"));
 }
 
 TEUCHOS_UNIT_TEST(InputDeck, UnknownKeyIsNamed) {

@@ -81,7 +81,8 @@ void checkConservation(Teuchos::FancyOStream& out, bool& success) {
   f.importKinematics();
   {
     auto kinv = f.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridToParticleExplicit<ExecutionSpace, Shape>(g, dist.ghostedIndexer(), ps, kinv, 1e-3, 0.0, false);
+    gridToParticleExplicit<ExecutionSpace, Shape>(g, dist.ghostedIndexer(), ps, kinv, 1e-3, 0.0, false,
+                                                  LinearElastic{}.law(), false);
   }
   Kokkos::deep_copy(v, ps.v);
   double after[2] = {0, 0}, afterTotals[2];

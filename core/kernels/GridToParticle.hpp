@@ -4,7 +4,7 @@
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
 #include "core/ParticleStencil.hpp"
-#include "physics/LinearElastic.hpp"
+#include "core/kernels/StressUpdate.hpp"
 
 namespace impm {
 
@@ -13,13 +13,12 @@ namespace impm {
 //   v_p <- flip (v_p + dt sum S a_i) + (1 - flip) sum S v_i,   a_p = sum S a_i,
 //   gradient_p = sum grad S (x) v_i  (for the stress update),  x_p <- x_p + dt sum S v_i.
 // The weights are those of the particle position at the start of the step.
-// With `stress` set (USL), the stress update with dt * gradient_p runs in the same pass.
-template <class ExecSpace, class Shape, class GridView>
+// With `updateStressNow` (USL), the stress update with dt * gradient_p through `law` runs in
+// the same pass.
+template <class ExecSpace, class Shape, class Law, class GridView>
 void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                             const GridView& kinematics, double dt, double flip, bool movePositions,
-                            const LinearElastic* stress = nullptr) {
-  const bool updateStressNow = stress != nullptr;
-  const StressIncrement inc(stress ? *stress : LinearElastic{});
+                            const Law& law, bool updateStressNow) {
   auto x = ps.x; auto hs = ps.halfSize; auto v = ps.v; auto a = ps.a; auto L = ps.gradient;
   Kokkos::parallel_for(
       "g2p", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
@@ -37,7 +36,7 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
         v(p, 0) = flip * (v(p, 0) + dt * ax) + (1.0 - flip) * vx;
         v(p, 1) = flip * (v(p, 1) + dt * ay) + (1.0 - flip) * vy;
         a(p, 0) = ax; a(p, 1) = ay;
-        if (updateStressNow) inc(ps, p, dt * l00, dt * l01, dt * l10, dt * l11);
+        if (updateStressNow) updateParticleState(ps, law, p, dt * l00, dt * l01, dt * l10, dt * l11);
         else { L(p, 0, 0) = l00; L(p, 0, 1) = l01; L(p, 1, 0) = l10; L(p, 1, 1) = l11; }
         if (movePositions) {
           x(p, 0) += dt * vx;

@@ -147,4 +147,27 @@ void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, c
       });
 }
 
+// Body forces m_p g_b S_ip, with g_b the acceleration of the particle's body (gravity).
+template <class ExecSpace, class Shape, class GridView, class AccelerationView>
+void particleToGridBodyForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                              const AccelerationView& bodyAcceleration, const GridView& grid, int forceCol) {
+  auto sv = Kokkos::Experimental::create_scatter_view(grid);
+  auto x = ps.x; auto hs = ps.halfSize; auto m = ps.mass; auto body = ps.body;
+  Kokkos::parallel_for(
+      "p2g_body_forces", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        auto out = sv.access();
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        const double fx = m(p) * bodyAcceleration(body(p), 0), fy = m(p) * bodyAcceleration(body(p), 1);
+        for (int aI = 0; aI < st.countX(); ++aI)
+          for (int bJ = 0; bJ < st.countY(); ++bJ) {
+            const int n = ix(st.i0 + aI, st.j0 + bJ);
+            const double w = st.weight(aI, bJ);
+            out(n, forceCol) += w * fx;
+            out(n, forceCol + 1) += w * fy;
+          }
+      });
+  GridView dest = grid;
+  Kokkos::Experimental::contribute(dest, sv);
+}
+
 }  // namespace impm

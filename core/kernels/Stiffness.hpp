@@ -15,7 +15,6 @@
 
 #include "core/ParticleCellPairs.hpp"
 #include "core/ParticleStencil.hpp"
-#include "physics/LinearElastic.hpp"
 
 namespace impm {
 
@@ -29,33 +28,40 @@ struct BlockMatrices {
 };
 
 namespace detail {
-// K(k) += w B^T D B for node gradients (gx, gy) of the block's nodes (nn of them).
+// K(k) += w B^T D B for node gradients (gx, gy) of the block's nodes (nn of them), with the
+// material tangent D on (eps_xx, eps_yy, 2 eps_xy).
 template <class KView>
 KOKKOS_INLINE_FUNCTION void addBtDB(const KView& K, int k, int nn, const double* gx, const double* gy, double w,
-                                    double c11, double c12, double c33) {
-  for (int a = 0; a < nn; ++a)
-    for (int b = 0; b < nn; ++b) {
-      // B_a^T D B_b for B_a = [[gx, 0], [0, gy], [gy, gx]].
-      K(k, 2 * a, 2 * b) += w * (c11 * gx[a] * gx[b] + c33 * gy[a] * gy[b]);
-      K(k, 2 * a, 2 * b + 1) += w * (c12 * gx[a] * gy[b] + c33 * gy[a] * gx[b]);
-      K(k, 2 * a + 1, 2 * b) += w * (c12 * gy[a] * gx[b] + c33 * gx[a] * gy[b]);
-      K(k, 2 * a + 1, 2 * b + 1) += w * (c11 * gy[a] * gy[b] + c33 * gx[a] * gx[b]);
+                                    const double D[3][3]) {
+  for (int a = 0; a < nn; ++a) {
+    // D B_a for B_a = [[gx, 0], [0, gy], [gy, gx]]: columns for the a's x and y dofs.
+    double DBx[3], DBy[3];
+    for (int r = 0; r < 3; ++r) {
+      DBx[r] = D[r][0] * gx[a] + D[r][2] * gy[a];
+      DBy[r] = D[r][1] * gy[a] + D[r][2] * gx[a];
     }
+    for (int b = 0; b < nn; ++b) {
+      // B_b^T (D B_a): rows for b's x and y dofs. K is symmetric for a symmetric D.
+      K(k, 2 * b, 2 * a) += w * (gx[b] * DBx[0] + gy[b] * DBx[2]);
+      K(k, 2 * b, 2 * a + 1) += w * (gx[b] * DBy[0] + gy[b] * DBy[2]);
+      K(k, 2 * b + 1, 2 * a) += w * (gy[b] * DBx[1] + gx[b] * DBx[2]);
+      K(k, 2 * b + 1, 2 * a + 1) += w * (gy[b] * DBy[1] + gx[b] * DBy[2]);
+    }
+  }
 }
 }  // namespace detail
 
-template <class ExecSpace>
+template <class ExecSpace, class Law>
 BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs& pairs, const ParticleSet& ps,
-                               const LinearElastic& mat) {
+                               const Law& law) {
   BlockMatrices out;
   out.count = pairs.count;
   out.blockNodesX = out.blockNodesY = 2;
   out.origin = pairs.cell;
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
   auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
-  auto V = ps.volume; auto hs = ps.halfSize;
+  auto V = ps.volume; auto hs = ps.halfSize; auto matId = ps.material;
   auto K = out.K;
-  const double c11 = mat.c11(), c12 = mat.c12(), c33 = mat.c33();
   Kokkos::parallel_for(
       "overlap_stiffness", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
         const int p = P(k);
@@ -67,6 +73,8 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
         const double qy[2] = {0.5 * (c + d) - 0.5 * (d - c) * s, 0.5 * (c + d) + 0.5 * (d - c) * s};
         const double thickness = V(p) / (4.0 * hs(p, 0) * hs(p, 1));
         const double wq = 0.25 * (b - a) * (d - c) * thickness;
+        double D[3][3];
+        law.tangent(matId(p), D);
         for (int ix = 0; ix < 2; ++ix)
           for (int iy = 0; iy < 2; ++iy) {
             const double xi = (qx[ix] - cx) / g.hx, eta = (qy[iy] - cy) / g.hy;
@@ -78,7 +86,7 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
                 gx[di + 2 * dj] = dNx[di] * Ny[dj];
                 gy[di + 2 * dj] = Nx[di] * dNy[dj];
               }
-            detail::addBtDB(K, k, 4, gx, gy, wq, c11, c12, c33);
+            detail::addBtDB(K, k, 4, gx, gy, wq, D);
           }
       });
   return out;
@@ -88,8 +96,8 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
 // shorter than that (GIMP near a cell line) sits inside the block, which is shifted to stay
 // inside the grid. With massFactor c > 0
 // the block also gets c times the particle's consistent mass, c m_p S_ap S_bp per component.
-template <class ExecSpace, class Shape>
-BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const LinearElastic& mat,
+template <class ExecSpace, class Shape, class Law>
+BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const Law& law,
                                double massFactor = 0.0) {
   constexpr int bn = Shape::max_nodes_1d;
   const int bnx = bn < g.nx + 1 ? bn : g.nx + 1, bny = bn < g.ny + 1 ? bn : g.ny + 1;
@@ -101,8 +109,7 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
   out.origin = decltype(out.origin)("stencil_block_origin", ps.count);
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("stencil_stiffness", ps.count, nd, nd);
   auto O = out.origin; auto K = out.K;
-  auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto m = ps.mass;
-  const double c11 = mat.c11(), c12 = mat.c12(), c33 = mat.c33();
+  auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto m = ps.mass; auto matId = ps.material;
   Kokkos::parallel_for(
       "stencil_stiffness", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
@@ -121,7 +128,9 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
           }
         for (int r = 0; r < nd; ++r)
           for (int c = 0; c < nd; ++c) K(p, r, c) = 0.0;
-        detail::addBtDB(K, p, bnx * bny, gx, gy, V(p), c11, c12, c33);
+        double D[3][3];
+        law.tangent(matId(p), D);
+        detail::addBtDB(K, p, bnx * bny, gx, gy, V(p), D);
         if (massFactor > 0.0)
           for (int a = 0; a < bnx * bny; ++a)
             for (int b = 0; b < bnx * bny; ++b)

@@ -1,0 +1,243 @@
+#include "physics/ExactReference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "core/InputDeck.hpp"
+#include "physics/BeamTheories.hpp"
+#include "physics/ExactSolutions.hpp"
+#include "physics/LayeredBarExact.hpp"
+
+namespace impm {
+
+using Teuchos::ParameterList;
+
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+// The body an exact solution describes: Exact Solution/Body, or the first body; a Rectangle.
+const BodySpec& exactBody(const ParameterList& e, const ExactContext& c) {
+  const std::string name = e.get<std::string>("Body");
+  const BodySpec* body = name.empty() ? &c.bodies.front() : nullptr;
+  for (const auto& b : c.bodies)
+    if (b.name == name) body = &b;
+  if (!body) throw DeckError("'Exact Solution/Body' = '" + name + "' names no entry of Bodies");
+  if (!body->rectangle)
+    throw DeckError("'Exact Solution/Type' = " + e.get<std::string>("Type") + " describes a rectangular body: 'Bodies/" +
+                    body->name + "' is not a Rectangle");
+  return *body;
+}
+
+const LoadSpec& exactLoad(const ParameterList& e, const ExactContext& c) {
+  const std::string loadName = e.get<std::string>("Load");
+  for (const auto& s : c.loads)
+    if (s.name == loadName) return s;
+  throw DeckError("'Exact Solution/Load' = '" + loadName + "' names no entry of Loads");
+}
+
+double modulusFor(const ParameterList& e, const ExactContext& c, int material) {
+  return e.get<std::string>("Modulus") == "Young Modulus" ? c.materials->parameters(material).E
+                                                          : c.materials->barModulus(material);
+}
+
+class BarStep : public ExactReference {
+ public:
+  BarStep(const ParameterList& e, const ExactContext& c) {
+    const BodySpec& b = exactBody(e, c);
+    modulus_ = modulusFor(e, c, b.material);
+    xMin_ = b.rect.xMin;
+    series_ = e.get<std::string>("Form") == "Series";
+    terms_ = e.get<int>("Series Terms");
+    bar_ = BarStepExact{b.rect.length(), b.rect.height() * c.thickness, modulus_, c.materials->density(b.material),
+                        exactLoad(e, c).forceX};
+  }
+  std::string type() const override { return "Bar Step Load"; }
+  double value(const std::string& q, double x0, double, double t) const override {
+    const double x = x0 - xMin_;
+    if (q == "Displacement X") return series_ ? bar_.displacementSeries(x, t, terms_) : bar_.displacementClosed(x, t);
+    if (q == "Stress XX") return series_ ? bar_.stressSeries(x, t, terms_) : bar_.stressClosed(x, t);
+    return kNaN;
+  }
+
+ private:
+  BarStepExact bar_{};
+  double xMin_ = 0;
+  bool series_ = false;
+  int terms_ = 2000;
+};
+
+class StandingWave : public ExactReference {
+ public:
+  StandingWave(const ParameterList& e, const ExactContext& c) {
+    // The exact solution holds for this initial state, both ends fixed in x and no loads.
+    if (c.initialCondition != "Standing Wave")
+      throw DeckError("'Exact Solution/Type' = Bar Standing Wave needs 'Initial Conditions/Type' = Standing Wave, got " +
+                      c.initialCondition);
+    if (!c.loads.empty())
+      throw DeckError("'Exact Solution/Type' = Bar Standing Wave is free vibration: the deck must have no Loads (found '" +
+                      c.loads.front().name + "')");
+    for (const std::string face : {"x-", "x+"}) {
+      bool fixed = false;
+      for (const auto& s : c.constraints) fixed = fixed || (s.where == "Face" && s.face == face && s.fixX);
+      if (!fixed)
+        throw DeckError("'Exact Solution/Type' = Bar Standing Wave needs a constraint fixing x on face " + face +
+                        " of the body (Constraints: Where = Face, Face = " + face + ", Components = x or xy)");
+    }
+    const BodySpec& b = exactBody(e, c);
+    modulus_ = modulusFor(e, c, b.material);
+    xMin_ = b.rect.xMin;
+    wave_ = BarStandingWaveExact{b.rect.length(), modulus_, c.materials->density(b.material), c.initialAmplitude,
+                                 c.initialMode};
+  }
+  std::string type() const override { return "Bar Standing Wave"; }
+  double value(const std::string& q, double x0, double, double t) const override {
+    const double x = x0 - xMin_;
+    if (q == "Displacement X") return wave_.displacement(x, t);
+    if (q == "Velocity X") return wave_.velocity(x, t);
+    if (q == "Stress XX") return wave_.stress(x, t);
+    return kNaN;
+  }
+  void addSummary(ParameterList& s) const override { s.set("Exact Angular Frequency", wave_.omega()); }
+
+ private:
+  BarStandingWaveExact wave_{};
+  double xMin_ = 0;
+};
+
+class SimplySupportedBeam : public ExactReference {
+ public:
+  SimplySupportedBeam(const ParameterList& e, const ExactContext& c) : dt_(c.dt), steps_(c.steps) {
+    const BodySpec& b = exactBody(e, c);
+    const RectangularBody& r = b.rect;
+    const LoadSpec& load = exactLoad(e, c);
+    const ElasticParameters& mat = c.materials->parameters(b.material);
+    modulus_ = modulusFor(e, c, b.material);
+    xMin_ = r.xMin;
+    terms_ = std::min(e.get<int>("Series Terms"), 400);
+    const double A = r.height() * c.thickness, I = c.thickness * std::pow(r.height(), 3) / 12.0;
+    beam_ = BeamHarmonicExact{r.length(), load.x - r.xMin, modulus_, I, mat.density * A, load.forceY, load.time.omega};
+    neutralAxisY_ = 0.5 * (r.yMin + r.yMax);
+    timoshenko_ = e.get<std::string>("Beam Theory") == "Timoshenko";
+    if (timoshenko_) {
+      const double kappa = e.get<double>("Shear Coefficient");
+      if (!(kappa > 0)) throw DeckError("'Exact Solution/Shear Coefficient' must be positive, got " + fmt(kappa));
+      const double G = mat.E / (2.0 * (1.0 + mat.nu));
+      timo_ = TimoshenkoBeamHarmonic{r.length(), load.x - r.xMin, modulus_, G, kappa, A, I, mat.density, load.forceY,
+                                     load.time.omega};
+    }
+    newmark_ = e.get<std::string>("Time Discretisation") == "Newmark";
+  }
+  std::string type() const override { return "Simply Supported Beam"; }
+  double value(const std::string& q, double x0, double y0, double t) const override {
+    const double x = x0 - xMin_;
+    if (newmark_) {
+      if (q != "Displacement Y") return kNaN;
+      // The whole Newmark history once per position, indexed by step.
+      auto it = newmarkHistory_.find(x);
+      if (it == newmarkHistory_.end())
+        it = newmarkHistory_
+                 .emplace(x, timoshenko_ ? timo_.deflectionHistoryNewmark(x, dt_, steps_, terms_)
+                                         : deflectionHistoryNewmark(beam_, x, dt_, steps_, terms_))
+                 .first;
+      const long k = std::lround(t / dt_);
+      return k >= 0 && k < (long)it->second.size() ? it->second[k] : kNaN;
+    }
+    if (q == "Displacement Y") return timoshenko_ ? timo_.deflection(x, t, terms_) : beam_.deflection(x, t, terms_);
+    if (q == "Stress XX" && !timoshenko_) return beam_.bendingStress(x, y0 - neutralAxisY_, t, terms_);
+    return kNaN;
+  }
+  void addSummary(ParameterList& s) const override {
+    s.set("Exact Beam Theory", timoshenko_ ? std::string("Timoshenko") : std::string("Euler-Bernoulli"));
+    s.set("Exact Time Discretisation", newmark_ ? std::string("Newmark") : std::string("Exact"));
+  }
+
+ private:
+  BeamHarmonicExact beam_{};
+  TimoshenkoBeamHarmonic timo_{};
+  bool timoshenko_ = false, newmark_ = false;
+  double xMin_ = 0, neutralAxisY_ = 0, dt_ = 0;
+  int steps_ = 0, terms_ = 400;
+  mutable std::map<double, std::vector<double>> newmarkHistory_;
+};
+
+// All Rectangle bodies side by side along x (sorted by X Min), fixed at the left end, the step
+// load at the right end. Exact Solution/Body is not used: the rod is every body.
+class LayeredBar : public ExactReference {
+ public:
+  LayeredBar(const ParameterList& e, const ExactContext& c) {
+    std::vector<const BodySpec*> bodies;
+    for (const auto& b : c.bodies) {
+      if (!b.rectangle)
+        throw DeckError("'Exact Solution/Type' = Layered Bar Step Load needs Rectangle bodies: 'Bodies/" + b.name +
+                        "' is not one");
+      bodies.push_back(&b);
+    }
+    std::sort(bodies.begin(), bodies.end(), [](auto a, auto b) { return a->rect.xMin < b->rect.xMin; });
+    const double x0 = bodies.front()->rect.xMin;
+    const double height = bodies.front()->rect.height();
+    std::vector<LayeredBarExact::Segment> segments;
+    for (size_t k = 0; k < bodies.size(); ++k) {
+      const RectangularBody& r = bodies[k]->rect;
+      const double tol = 1e-9 * (bodies.back()->rect.xMax - x0);
+      if (k > 0 && std::abs(r.xMin - bodies[k - 1]->rect.xMax) > tol)
+        throw DeckError("'Exact Solution/Type' = Layered Bar Step Load needs the bodies to touch end to end along x: 'Bodies/" +
+                        bodies[k]->name + "' starts at X Min = " + fmt(r.xMin) + ", 'Bodies/" + bodies[k - 1]->name +
+                        "' ends at X Max = " + fmt(bodies[k - 1]->rect.xMax));
+      if (std::abs(r.height() - height) > 1e-9 * height)
+        throw DeckError("'Exact Solution/Type' = Layered Bar Step Load needs bodies of one height: 'Bodies/" +
+                        bodies[k]->name + "' differs");
+      segments.push_back({r.xMin - x0, r.xMax - x0, modulusFor(e, c, bodies[k]->material),
+                          c.materials->density(bodies[k]->material)});
+    }
+    // The modulus reported is the first segment's; each segment uses its own.
+    modulus_ = segments.front().E;
+    xMin_ = x0;
+    const LoadSpec& load = exactLoad(e, c);
+    const RectangularBody& last = bodies.back()->rect;
+    if (load.type != "Face Traction" || load.face != "x+" || load.body.xMax != last.xMax)
+      throw DeckError("'Exact Solution/Load' = '" + load.name + "': Layered Bar Step Load needs a Face Traction on face x+ of "
+                      "the rightmost body ('Bodies/" + bodies.back()->name + "')");
+    try {
+      bar_ = std::make_unique<LayeredBarExact>(segments, height * c.thickness, load.forceX, c.dt * c.steps * 1.0001);
+    } catch (const std::exception& ex) {
+      throw DeckError(std::string("'Exact Solution/Type' = Layered Bar Step Load: ") + ex.what());
+    }
+  }
+  std::string type() const override { return "Layered Bar Step Load"; }
+  double value(const std::string& q, double x0, double, double t) const override {
+    const double x = x0 - xMin_;
+    if (q == "Displacement X") return bar_->displacement(x, t);
+    if (q == "Velocity X") return bar_->velocity(x, t);
+    if (q == "Stress XX") return bar_->stress(x, t);
+    return kNaN;
+  }
+
+ private:
+  std::unique_ptr<LayeredBarExact> bar_;
+  double xMin_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ExactReference> makeExactReference(const ParameterList& e, const ExactContext& c) {
+  const std::string type = e.get<std::string>("Type");
+  if (e.get<int>("Series Terms") <= 0)
+    throw DeckError("'Exact Solution/Series Terms' must be positive, got " + std::to_string(e.get<int>("Series Terms")));
+  if (type == "Bar Step Load") return std::make_unique<BarStep>(e, c);
+  if (type == "Bar Standing Wave") return std::make_unique<StandingWave>(e, c);
+  if (type == "Simply Supported Beam") return std::make_unique<SimplySupportedBeam>(e, c);
+  if (type == "Layered Bar Step Load") return std::make_unique<LayeredBar>(e, c);
+  return nullptr;
+}
+
+}  // namespace impm

@@ -1,0 +1,53 @@
+// The exact solution a run is compared with, chosen once from the deck's `Exact Solution`
+// section by makeExactReference (a factory): the seed's bar and beam, the standing wave and
+// the layered bar. The run loop asks only for the value of a monitored quantity at a
+// particle's reference position and a time.
+#pragma once
+
+#include <Teuchos_ParameterList.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "physics/Body.hpp"
+#include "physics/Constraints.hpp"
+#include "physics/LinearElastic.hpp"
+#include "physics/Loads.hpp"
+
+namespace impm {
+
+class ExactReference {
+ public:
+  virtual ~ExactReference() = default;
+  virtual std::string type() const = 0;
+  // The exact value of a monitor quantity ("Displacement X", "Stress XX", ...) at reference
+  // position (x0, y0) and time t; NaN when this solution has no such quantity.
+  virtual double value(const std::string& quantity, double x0, double y0, double t) const = 0;
+  // The modulus the comparison uses (E or the plane-strain bar modulus E/(1 - nu^2)).
+  double modulus() const { return modulus_; }
+  // Entries of summary.yaml beyond Exact Solution and Exact Modulus.
+  virtual void addSummary(Teuchos::ParameterList& /*summary*/) const {}
+
+ protected:
+  double modulus_ = 0;
+};
+
+// What the factory needs of the built model.
+struct ExactContext {
+  std::vector<BodySpec> bodies;      // in deck order
+  const LinearElastic* materials = nullptr;
+  double thickness = 1;
+  std::vector<LoadSpec> loads;
+  std::vector<ConstraintSpec> constraints;
+  std::string initialCondition;      // Initial Conditions/Type
+  double initialAmplitude = 0;
+  int initialMode = 1;
+  double dt = 0;
+  int steps = 0;
+};
+
+// Null for Type = None. Throws DeckError naming the key when the deck does not fit the solution.
+std::unique_ptr<ExactReference> makeExactReference(const Teuchos::ParameterList& exactSection, const ExactContext& context);
+
+}  // namespace impm

@@ -1,0 +1,34 @@
+// What an implicit integrator gives the Newton solver: the residual R(u) of one time step over
+// a Tpetra map of unknowns, and an assembled matrix P ~ dR/du. Its own header, so that the
+// solver and the Thyra model evaluator depend on it, not on each other.
+#pragma once
+
+#include <Teuchos_RCP.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+
+#include "core/Types.hpp"
+
+namespace impm {
+
+using CrsMatrix = Tpetra::CrsMatrix<Scalar, LO, GO, Node>;
+
+// What the implicit integrator provides: R(u) on a Tpetra map of unknowns (free grid dofs;
+// the map may change from one time step to the next) and an assembled matrix P ~ dR/du
+// (P = 4/dt^2 M_lumped + K) for the preconditioner or for assembled Newton.
+class ResidualModel {
+ public:
+  virtual ~ResidualModel() = default;
+  virtual Teuchos::RCP<const Map> unknownMap() const = 0;
+  // R(u) on unknownMap(); must overwrite every entry of R. Collective: all ranks call it.
+  virtual void residual(const Vector& u, Vector& R) = 0;
+  // Assembled approximation of the Jacobian; may be recomputed each call (values change with u for
+  // large deformation). Must be fill complete, with row, range and domain maps equal to unknownMap().
+  // Returning the same object (refilled, with a static graph) lets the preconditioner skip its
+  // symbolic setup (Ifpack2 initialize()); a new object triggers a full rebuild.
+  virtual Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) = 0;
+  // A number that changes whenever the values of the matrix last returned by jacobianMatrix
+  // change (so that preconditioner factors can be kept); -1: unknown, always refactor.
+  virtual long jacobianVersion() const { return -1; }
+};
+
+}  // namespace impm
