@@ -25,6 +25,14 @@ struct ParticleStencil {
   KOKKOS_INLINE_FUNCTION int countX() const { return Shape::fixed_count ? N : ni; }
   KOKKOS_INLINE_FUNCTION int countY() const { return Shape::fixed_count ? N : nj; }
 
+  // f(n, w, dwdx, dwdy) for every node of the stencil: n its local index in `ix`, w = S_ip and
+  // (dwdx, dwdy) = grad S_ip. The one loop over a particle's nodes; kernels plug in the rest.
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void forEachNode(const LocalNodeIndexer& ix, F&& f) const {
+    for (int a = 0; a < countX(); ++a)
+      for (int b = 0; b < countY(); ++b) f(ix(i0 + a, j0 + b), weight(a, b), gradX(a, b), gradY(a, b));
+  }
+
   KOKKOS_INLINE_FUNCTION double weight(int a, int b) const { return wx[a] * wy[b]; }
   KOKKOS_INLINE_FUNCTION double gradX(int a, int b) const { return gx[a] * wy[b]; }
   KOKKOS_INLINE_FUNCTION double gradY(int a, int b) const { return wx[a] * gy[b]; }

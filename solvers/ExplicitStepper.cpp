@@ -10,10 +10,8 @@ template <class Shape>
 ExplicitStepper<Shape>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
                                         const LinearElastic& material, const NodalConstraints& constraints,
                                         const LoadSet& loads, const ExplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), fields_(dist) {
-  scratchOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2));
-  scratchGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
-  residualGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2));
+    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), fields_(dist),
+      projection_(dist) {
   // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
 }
@@ -70,45 +68,11 @@ void ExplicitStepper<Shape>::gridUpdate(double dt, bool withForces) {
   bc_.template apply<Exec>(kinv, kin::AccX);
 }
 
-// The lumped projection v_i = p_i / m_i of particle momentum smooths a velocity field by
-// M_L^-1 M_C every step: for a wave of number k on cells of size h it scales the grid
-// velocity by about 1 - (kh)^2/6, which adds twice the lumped-mass dispersion again. Each
-// Jacobi iteration v += M_L^-1 (p - M_C v) squares that factor's deviation from 1.
+// See solvers/ProjectionCorrection.hpp: v += M_L^-1 (p - M_C v) on the momentum sums.
 template <class Shape>
 void ExplicitStepper<Shape>::correctProjection() {
   PhaseTimer phase("projection correction");
-  const double cutoff = massCutoff_;
-  for (int it = 0; it < opt_.projectionIterations; ++it) {
-    {
-      auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
-      auto vel = scratchOwned_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
-      Kokkos::parallel_for(
-          "projection_velocity", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-            const double m = acc(n, accum::Mass);
-            vel(n, 0) = m > cutoff ? acc(n, accum::MomX) / m : 0.0;
-            vel(n, 1) = m > cutoff ? acc(n, accum::MomY) / m : 0.0;
-          });
-      bc_.template apply<Exec>(vel, 0);
-    }
-    scratchGhosted_->doImport(*scratchOwned_, *dist_.importer(), Tpetra::INSERT);
-    // The residual goes to its own ghosted pair (the accumulator's columns hold this step's sums).
-    residualGhosted_->putScalar(0.0);
-    {
-      auto vel = scratchGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-      auto res = residualGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-      particleToGridProjectionResidual<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, vel, 0, res, 0);
-    }
-    scratchOwned_->putScalar(0.0);
-    scratchOwned_->doExport(*residualGhosted_, *dist_.importer(), Tpetra::ADD);
-    auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    auto res = scratchOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    Kokkos::parallel_for(
-        "projection_correction", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-          // m v_new = m v + r  <=>  p_new = p + r
-          acc(n, accum::MomX) += res(n, 0);
-          acc(n, accum::MomY) += res(n, 1);
-        });
-  }
+  projection_.apply(*fields_.accumOwned, accum::Mass, accum::MomX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
 }
 
 template <class Shape>

@@ -12,6 +12,7 @@
 #include "physics/LinearElastic.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
+#include "solvers/ProjectionCorrection.hpp"
 
 namespace impm {
 
@@ -51,7 +52,7 @@ class ExplicitStepper : public Integrator {
   const LoadSet& loads_;
   ExplicitOptions opt_;
   GridFields fields_;
-  Teuchos::RCP<MultiVector> scratchOwned_, scratchGhosted_, residualGhosted_;
+  ProjectionCorrection<Shape> projection_;
   double massCutoff_ = 0.0;
 };
 

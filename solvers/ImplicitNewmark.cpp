@@ -33,7 +33,7 @@ template <class Shape>
 ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist,
                                         const LinearElastic& material, const NodalConstraints& constraints,
                                         const LoadSet& loads, const ImplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options) {
+    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), projection_(dist) {
   solver_ = std::make_unique<NewtonSolver>(opt_.solverParams);
   stateOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), st::Count));
   stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), st::Count));
@@ -183,43 +183,8 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
 template <class Shape>
 void ImplicitNewmark<Shape>::correctProjection() {
   if (opt_.projectionIterations <= 0) return;
-  const double cutoff = massCutoff_;
-  for (int field = 0; field < 2; ++field) {  // velocity, then acceleration (m v, m a columns)
-    const int col = field == 0 ? st::VelX : st::AccX;
-    const ParticleSet::Vec2 particleField = field == 0 ? ps_.v : ps_.a;
-    for (int it = 0; it < opt_.projectionIterations; ++it) {
-      {
-        auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-        auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
-        Kokkos::parallel_for(
-            "projection_field", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
-              const double m = s(n, st::Mass);
-              d(n, 0) = m > cutoff ? s(n, col) / m : 0.0;
-              d(n, 1) = m > cutoff ? s(n, col + 1) / m : 0.0;
-              d(n, 2) = 0.0;
-              d(n, 3) = 0.0;
-            });
-        bc_.template apply<Exec>(d, 0);
-      }
-      dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
-      forceGhosted_->putScalar(0.0);
-      {
-        auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-        auto r = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-        particleToGridProjectionResidual<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, 0, r, 0,
-                                                      &particleField);
-      }
-      forceOwned_->putScalar(0.0);
-      forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
-      auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-      auto r = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-      Kokkos::parallel_for(
-          "projection_correction", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
-            s(n, col) += r(n, 0);
-            s(n, col + 1) += r(n, 1);
-          });
-    }
-  }
+  projection_.apply(*stateOwned_, st::Mass, st::VelX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
+  projection_.apply(*stateOwned_, st::Mass, st::AccX, ps_, ps_.a, bc_, massCutoff_, opt_.projectionIterations);
 }
 
 template <class Shape>
@@ -247,29 +212,21 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
     // its internal force through the shared scatterInternalForce.
     {
       auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-      auto sv = Kokkos::Experimental::create_scatter_view(f);
-      const StructuredGrid g = dist_.grid();
       const LocalNodeIndexer ix = dist_.ghostedIndexer();
-      auto x = ps_.x; auto hs = ps_.halfSize; auto vol = ps_.volume; auto sig = ps_.stress; auto matId = ps_.material;
+      auto vol = ps_.volume; auto sig = ps_.stress; auto matId = ps_.material;
       const auto law = mat_.law();
-      Kokkos::parallel_for(
-          "implicit_internal_force", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
-            auto out = sv.access();
-            const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+      scatterToGrid<Exec, Shape>(
+          "implicit_internal_force", dist_.grid(), ps_, f, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape>& st, auto& out) {
             double l00 = 0, l01 = 0, l10 = 0, l11 = 0;
-            for (int a = 0; a < st.countX(); ++a)
-              for (int b = 0; b < st.countY(); ++b) {
-                const int n = ix(st.i0 + a, st.j0 + b);
-                const double dx = st.gradX(a, b), dy = st.gradY(a, b);
-                l00 += d(n, dp::UX) * dx; l01 += d(n, dp::UX) * dy;
-                l10 += d(n, dp::UY) * dx; l11 += d(n, dp::UY) * dy;
-              }
+            st.forEachNode(ix, [&](int n, double, double dx, double dy) {
+              l00 += d(n, dp::UX) * dx; l01 += d(n, dp::UX) * dy;
+              l10 += d(n, dp::UY) * dx; l11 += d(n, dp::UY) * dy;
+            });
             const double s0[4] = {sig(p, 0), sig(p, 1), sig(p, 2), sig(p, 3)};
             double trial[4];
             law.stress(matId(p), s0, l00, l01, l10, l11, trial);
             scatterInternalForce(st, ix, vol(p), trial[0], trial[1], trial[2], out, 0);
           });
-      Kokkos::Experimental::contribute(f, sv);
     }
     if (opt_.consistentMass) {
       // M_C u = sum_p m_p S_ip u_p with u_p = sum_j S_jp u_j (consistent-mass residual only).

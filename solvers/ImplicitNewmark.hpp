@@ -21,6 +21,7 @@
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
 #include "solvers/NewtonSolver.hpp"
+#include "solvers/ProjectionCorrection.hpp"
 
 namespace impm {
 
@@ -95,6 +96,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   const NodalConstraints& bc_;
   const LoadSet& loads_;
   ImplicitOptions opt_;
+  ProjectionCorrection<Shape> projection_;
   std::unique_ptr<NewtonSolver> solver_;
   double dt_ = 0, massCutoff_ = 0;
   bool firstStep_ = true;

@@ -1,0 +1,41 @@
+// The particle-grid loop skeletons, written once (after Cabana::Grid's interpolation): a kernel
+// supplies only what one particle does with its stencil.
+//   scatterToGrid:      p2g into a ghosted grid view through a Kokkos ScatterView (duplicated
+//                       per thread on OpenMP, atomic on GPUs); body(p, stencil, access).
+//   gatherFromGrid:     g2p; body(p, stencil).
+// Inside a body, ParticleStencil::forEachNode(ix, f(n, w, dwdx, dwdy)) visits the nodes.
+#pragma once
+
+#include <Kokkos_ScatterView.hpp>
+
+#include "core/ParticleSet.hpp"
+#include "core/ParticleStencil.hpp"
+
+namespace impm {
+
+template <class ExecSpace, class Shape, class GridView, class Body>
+void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const GridView& grid,
+                   const Body& body) {
+  auto sv = Kokkos::Experimental::create_scatter_view(grid);
+  auto x = ps.x; auto hs = ps.halfSize;
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        auto out = sv.access();
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        body(p, st, out);
+      });
+  GridView dest = grid;  // contribute() takes a non-const view
+  Kokkos::Experimental::contribute(dest, sv);
+}
+
+template <class ExecSpace, class Shape, class Body>
+void gatherFromGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const Body& body) {
+  auto x = ps.x; auto hs = ps.halfSize;
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        body(p, st);
+      });
+}
+
+}  // namespace impm
