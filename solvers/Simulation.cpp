@@ -1,432 +1,35 @@
+// Simulation, part 2: the run loop (time steps, particle migration, history, ParaView output,
+// progress line). Part 1 (SimulationBuilder.cpp) built the objects from the deck; part 3
+// (SimulationSummary.cpp) writes summary.yaml.
 #include "solvers/Simulation.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
-#include <Teuchos_YamlParameterListCoreHelpers.hpp>
 #include <unistd.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
-#include <algorithm>
-#include <limits>
 #include <sstream>
 
-#include "core/InputDeck.hpp"
 #include "core/ParticleMigration.hpp"
-#include "core/PhaseTimer.hpp"
-#include "core/kernels/Energy.hpp"
 #include "core/output/VtkWriter.hpp"
-#include "physics/InitialConditions.hpp"
-#include "solvers/ExplicitStepper.hpp"
+#include "solvers/History.hpp"
 #include "solvers/ImplicitNewmark.hpp"
-
 
 namespace impm {
 
 using Teuchos::ParameterList;
 
 namespace {
-
 std::string fmt(double v) {
   std::ostringstream os;
   os << std::setprecision(6) << v;
   return os.str();
 }
-
-double positive(const ParameterList& pl, const std::string& section, const std::string& key) {
-  const double v = pl.get<double>(key);
-  if (!(v > 0)) throw DeckError("'" + section + "/" + key + "' must be positive, got " + fmt(v));
-  return v;
-}
-int positiveInt(const ParameterList& pl, const std::string& section, const std::string& key) {
-  const int v = pl.get<int>(key);
-  if (v <= 0) throw DeckError("'" + section + "/" + key + "' must be positive, got " + std::to_string(v));
-  return v;
-}
-
-// True when x is on a grid line x0 + k h (to round-off).
-bool onGridLine(double x, double x0, double h) {
-  const double k = (x - x0) / h;
-  return std::abs(k - std::round(k)) < 1e-6;
-}
-
 }  // namespace
 
-void Simulation::checkGridNode(const std::string& where, double x, double y) const {
-  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
-  if (!onGridLine(x, grid_.x0, grid_.hx) || !onGridLine(y, grid_.y0, grid_.hy) || x < grid_.x0 - tolx ||
-      x > grid_.xMax() + tolx || y < grid_.y0 - toly || y > grid_.yMax() + toly)
-    throw DeckError("'" + where + "/X', '" + where + "/Y' = (" + fmt(x) + ", " + fmt(y) + ") is not a grid node");
-}
-
 Simulation::~Simulation() = default;
-
-Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                       const std::string& outputOverride)
-    : deck_(deck), comm_(comm) {
-  const ParameterList& problem = deck_.sublist("Problem");
-  outputDir_ = outputOverride.empty() ? problem.get<std::string>("Output Directory") : outputOverride;
-  if (outputDir_.empty()) throw DeckError("'Problem/Output Directory' must not be empty");
-
-  const ParameterList& g = deck_.sublist("Grid");
-  grid_.x0 = g.get<double>("Origin X");
-  grid_.y0 = g.get<double>("Origin Y");
-  grid_.nx = positiveInt(g, "Grid", "Cells X");
-  grid_.ny = positiveInt(g, "Grid", "Cells Y");
-  grid_.hx = positive(g, "Grid", "Cell Size X");
-  grid_.hy = positive(g, "Grid", "Cell Size Y");
-  thickness_ = positive(g, "Grid", "Thickness");
-
-  shape_ = deck_.sublist("Method").get<std::string>("Shape Function");
-  if (shape_ == "FE Q4") placement_ = Placement::GaussQ4;
-  if (shape_ == "FE Q9") placement_ = Placement::GaussQ9;
-  buildMaterialsAndBodies();
-
-  const ParameterList& in = deck_.sublist("Integrator");
-  dt_ = positive(in, "Integrator", "Time Step");
-  steps_ = positiveInt(in, "Integrator", "Number of Steps");
-
-  std::vector<ConstraintSpec> cspecs = buildConstraints();
-  dist_ = std::make_unique<GridDistribution>(grid_, comm_);
-  try {
-    particles_ = createParticles(bodies_, materials_, *dist_, placement_, thickness_);
-  } catch (const std::invalid_argument& e) {
-    throw DeckError(e.what());
-  }
-  constraints_ = NodalConstraints(cspecs, *dist_);
-
-  // Initial conditions, before the integrators (an implicit one computes a(0) from this state).
-  // The standing wave is one mode of the first body (or Exact Solution/Body).
-  const ParameterList& ic = deck_.sublist("Initial Conditions");
-  const std::string icType = ic.get<std::string>("Type");
-  const double icAmplitude = ic.get<double>("Amplitude");
-  const int icMode = ic.get<int>("Mode");
-  if (icType == "Standing Wave") {
-    if (!(icAmplitude != 0.0 && std::isfinite(icAmplitude)))
-      throw DeckError("'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
-                      fmt(icAmplitude));
-    if (icMode < 1)
-      throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " + std::to_string(icMode));
-    const BodySpec& b = bodyNamed("Exact Solution/Body", deck_.sublist("Exact Solution").get<std::string>("Body"));
-    if (!b.rectangle) throw DeckError("'Initial Conditions/Type' = Standing Wave needs a Rectangle body: 'Bodies/" + b.name + "' is not one");
-    if (bodies_.size() > 1)
-      throw DeckError("'Initial Conditions/Type' = Standing Wave is one mode of a single bar: the deck has " +
-                      std::to_string(bodies_.size()) + " bodies");
-    applyStandingWaveVelocity(particles_, b.rect.xMin, b.rect.length(), icAmplitude, icMode);
-  }
-
-  std::vector<LoadSpec> lspecs = buildLoads();
-
-  const ParameterList& ml = deck_.sublist("Monitors");
-  for (auto it = ml.begin(); it != ml.end(); ++it) {
-    const ParameterList& mp = ml.sublist(ml.name(it));
-    Monitor mon;
-    mon.name = ml.name(it);
-    mon.quantity = mp.get<std::string>("Quantity");
-    nearestParticle(mp.get<double>("X"), mp.get<double>("Y"), mon);
-    monitors_.push_back(mon);
-  }
-  energyHistory_ = deck_.sublist("Output").get<bool>("Energy And Momentum");
-
-  ExactContext context;
-  context.bodies = bodies_;
-  context.materials = &materials_;
-  context.thickness = thickness_;
-  context.loads = lspecs;
-  context.constraints = cspecs;
-  context.initialCondition = icType;
-  context.initialAmplitude = icAmplitude;
-  context.initialMode = icMode;
-  context.dt = dt_;
-  context.steps = steps_;
-  exact_ = makeExactReference(deck_.sublist("Exact Solution"), context);
-
-  buildIntegrator();
-}
-
-const BodySpec& Simulation::bodyNamed(const std::string& key, const std::string& name) const {
-  if (name.empty()) return bodies_.front();
-  for (const auto& b : bodies_)
-    if (b.name == name) return b;
-  throw DeckError("'" + key + "' = '" + name + "' names no entry of Bodies");
-}
-
-void Simulation::buildMaterialsAndBodies() {
-  const ParameterList& ms = deck_.sublist("Materials");
-  std::vector<ElasticParameters> params;
-  for (auto it = ms.begin(); it != ms.end(); ++it) {
-    const std::string name = ms.name(it), key = "Materials/" + name;
-    const ParameterList& m = ms.sublist(name);
-    ElasticParameters p;
-    p.E = positive(m, key, "Young Modulus");
-    p.density = positive(m, key, "Density");
-    p.nu = m.get<double>("Poisson Ratio");
-    if (!(p.nu > -1.0 && p.nu < 0.5))
-      throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + fmt(p.nu));
-    params.push_back(p);
-    materialNames_.push_back(name);
-  }
-  const PlaneCondition plane = deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress"
-                                   ? PlaneCondition::PlaneStress
-                                   : PlaneCondition::PlaneStrain;
-  if (params.empty()) throw DeckError("'Materials' is empty: a deck with Bodies needs at least one material");
-  materials_ = LinearElastic(params, plane);
-
-  if (shape_ == "FE Q9" && (grid_.nx % 2 || grid_.ny % 2))
-    throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
-                    std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
-  const ParameterList& bs = deck_.sublist("Bodies");
-  if (bs.numParams() == 0) throw DeckError("'Bodies' is empty: add at least one body");
-  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
-  for (auto it = bs.begin(); it != bs.end(); ++it) {
-    const std::string name = bs.name(it), key = "Bodies/" + name;
-    const ParameterList& b = bs.sublist(name);
-    BodySpec body;
-    body.name = name;
-    const std::string material = b.get<std::string>("Material");
-    const auto found = std::find(materialNames_.begin(), materialNames_.end(), material);
-    if (found == materialNames_.end()) {
-      std::string known;
-      for (const auto& n : materialNames_) known += (known.empty() ? "'" : ", '") + n + "'";
-      throw DeckError("'" + key + "/Material' = '" + material + "' names no entry of Materials (known: " + known + ")");
-    }
-    body.material = (int)(found - materialNames_.begin());
-    body.rect.particlesPerCellX = positiveInt(b, key, "Particles Per Cell X");
-    body.rect.particlesPerCellY = positiveInt(b, key, "Particles Per Cell Y");
-    body.rect.thickness = thickness_;
-    body.rect.placement = placement_;
-    body.velocityX = b.get<double>("Velocity X");
-    body.velocityY = b.get<double>("Velocity Y");
-    const std::string shape = b.get<std::string>("Shape");
-    if (placement_ != Placement::Lattice && shape != "Rectangle")
-      throw DeckError("'" + key + "/Shape' = " + shape + ": 'Method/Shape Function' = " + shape_ +
-                      " places Gauss points in Rectangle bodies only");
-    try {
-      if (shape == "Rectangle") {
-        RectangularBody& r = body.rect;
-        r.xMin = b.get<double>("X Min"); r.xMax = b.get<double>("X Max");
-        r.yMin = b.get<double>("Y Min"); r.yMax = b.get<double>("Y Max");
-        if (!(r.xMax > r.xMin)) throw DeckError("'" + key + "/X Max' must exceed '" + key + "/X Min'");
-        if (!(r.yMax > r.yMin)) throw DeckError("'" + key + "/Y Max' must exceed '" + key + "/Y Min'");
-        if (r.xMin < grid_.x0 - tolx) throw DeckError("particles outside the grid: '" + key + "/X Min' = " + fmt(r.xMin) + " is left of the grid origin " + fmt(grid_.x0));
-        if (r.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: '" + key + "/X Max' = " + fmt(r.xMax) + " is beyond the grid's right edge " + fmt(grid_.xMax()));
-        if (r.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + fmt(r.yMin) + " is below the grid origin " + fmt(grid_.y0));
-        if (r.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + fmt(r.yMax) + " is above the grid's top edge " + fmt(grid_.yMax()));
-        for (auto [k, v, o, h] : {std::make_tuple("X Min", r.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", r.xMax, grid_.x0, grid_.hx),
-                                  std::make_tuple("Y Min", r.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", r.yMax, grid_.y0, grid_.hy)}) {
-          if (!onGridLine(v, o, h)) throw DeckError("'" + key + "/" + k + "' = " + fmt(v) + " is not on a grid line");
-          // FE Q9: elements of 2 x 2 cells, the body made of whole elements.
-          if (placement_ == Placement::GaussQ9 && std::lround((v - o) / h) % 2)
-            throw DeckError("'" + key + "/" + k + "' = " + fmt(v) + " is not on an element edge of FE Q9 (an even grid line)");
-        }
-        body.rectangle = true;
-        body.shape = makeRectangle(r.xMin, r.xMax, r.yMin, r.yMax);
-      } else if (shape == "Ellipse") {
-        const double cx = b.get<double>("Center X"), cy = b.get<double>("Center Y");
-        const double rx = positive(b, key, "Radius X"), ry = positive(b, key, "Radius Y");
-        body.shape = makeEllipse(cx, cy, rx, ry);
-      } else if (shape == "Polygon") {
-        const std::string vertices = b.get<std::string>("Vertices");
-        try {
-          body.shape = makePolygon(parsePolygonVertices(vertices));
-        } catch (const std::invalid_argument& e) {
-          throw DeckError("'" + key + "/Vertices': " + e.what());
-        }
-      } else {
-        body.particlesFile = b.get<std::string>("File");
-        if (body.particlesFile.empty()) throw DeckError("'" + key + "/File' must name a particles file for Shape = Particles File");
-        try {
-          readParticlesFile(body.particlesFile, 2, thickness_);  // checked here, before anything runs
-        } catch (const std::exception& e) {
-          throw DeckError("'" + key + "/File': " + e.what());
-        }
-      }
-    } catch (const std::invalid_argument& e) {
-      throw DeckError("'" + key + "': " + e.what());
-    }
-    if (body.shape && !body.rectangle) {
-      double xlo, xhi, ylo, yhi;
-      body.shape->boundingBox(xlo, xhi, ylo, yhi);
-      if (xlo < grid_.x0 - tolx || xhi > grid_.xMax() + tolx || ylo < grid_.y0 - toly || yhi > grid_.yMax() + toly)
-        throw DeckError("particles outside the grid: '" + key + "' (" + body.shape->describe() + ") extends beyond the grid [" +
-                        fmt(grid_.x0) + ", " + fmt(grid_.xMax()) + "] x [" + fmt(grid_.y0) + ", " + fmt(grid_.yMax()) + "]");
-    }
-    bodies_.push_back(body);
-  }
-}
-
-std::vector<ConstraintSpec> Simulation::buildConstraints() {
-  std::vector<ConstraintSpec> specs;
-  const ParameterList& cl = deck_.sublist("Constraints");
-  for (auto it = cl.begin(); it != cl.end(); ++it) {
-    const ParameterList& c = cl.sublist(cl.name(it));
-    ConstraintSpec s;
-    s.name = cl.name(it);
-    const std::string key = "Constraints/" + s.name;
-    s.where = c.get<std::string>("Where");
-    s.face = c.get<std::string>("Face");
-    s.x = c.get<double>("X"); s.y = c.get<double>("Y");
-    s.xMin = c.get<double>("X Min"); s.xMax = c.get<double>("X Max");
-    s.yMin = c.get<double>("Y Min"); s.yMax = c.get<double>("Y Max");
-    const std::string comp = c.get<std::string>("Components");
-    s.fixX = comp.find('x') != std::string::npos;
-    s.fixY = comp.find('y') != std::string::npos;
-    if (s.where == "Node") checkGridNode(key, s.x, s.y);
-    if (s.where == "Face") {
-      const BodySpec& b = bodyNamed(key + "/Body", c.get<std::string>("Body"));
-      if (!b.rectangle) throw DeckError("'" + key + "': Where = Face needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
-      s.body = b.rect;
-    }
-    if (s.where == "Box") {
-      if (!(s.xMax >= s.xMin && s.yMax >= s.yMin))
-        throw DeckError("'" + key + "': the box needs X Max >= X Min and Y Max >= Y Min");
-      if (boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax).empty())
-        throw DeckError("'" + key + "': the box [" + fmt(s.xMin) + ", " + fmt(s.xMax) + "] x [" + fmt(s.yMin) + ", " +
-                        fmt(s.yMax) + "] holds no grid node");
-    }
-    specs.push_back(s);
-  }
-  return specs;
-}
-
-std::vector<LoadSpec> Simulation::buildLoads() {
-  std::vector<LoadSpec> specs;
-  std::vector<long long> loadParticle;
-  const ParameterList& ll = deck_.sublist("Loads");
-  for (auto it = ll.begin(); it != ll.end(); ++it) {
-    const ParameterList& l = ll.sublist(ll.name(it));
-    LoadSpec s;
-    s.name = ll.name(it);
-    const std::string key = "Loads/" + s.name;
-    s.type = l.get<std::string>("Type");
-    s.face = l.get<std::string>("Face");
-    s.x = l.get<double>("X"); s.y = l.get<double>("Y");
-    s.forceX = l.get<double>("Force X"); s.forceY = l.get<double>("Force Y");
-    s.accelerationX = l.get<double>("Acceleration X"); s.accelerationY = l.get<double>("Acceleration Y");
-    const std::string tf = l.get<std::string>("Time Function");
-    s.time.kind = tf == "Sine" ? TimeFunction::Kind::Sine : tf == "Constant" ? TimeFunction::Kind::Constant : TimeFunction::Kind::Step;
-    s.time.omega = l.get<double>("Angular Frequency");
-    s.time.startTime = l.get<double>("Start Time");
-    if (s.time.kind == TimeFunction::Kind::Sine && !(s.time.omega > 0))
-      throw DeckError("'" + key + "/Angular Frequency' must be positive for a Sine load");
-    if (s.type == "Node Force") checkGridNode(key, s.x, s.y);
-    const std::string bodyName = l.get<std::string>("Body");
-    if (s.type == "Face Traction") {
-      const BodySpec& b = bodyNamed(key + "/Body", bodyName);
-      if (!b.rectangle) throw DeckError("'" + key + "': a Face Traction needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
-      s.body = b.rect;
-    }
-    if (s.type == "Body Force" && !bodyName.empty())
-      s.bodyIndex = (int)(&bodyNamed(key + "/Body", bodyName) - bodies_.data());
-    long long particle = -1;
-    if (s.type == "Particle Force") {
-      Monitor m;
-      nearestParticle(s.x, s.y, m);
-      particle = m.particleId;
-    }
-    loadParticle.push_back(particle);
-    specs.push_back(s);
-  }
-  loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size());
-  loads_.locateParticles(particles_);
-  return specs;
-}
-
-void Simulation::buildIntegrator() {
-  const ParameterList& in = deck_.sublist("Integrator");
-  const std::string integratorType = in.get<std::string>("Type");
-  const ParameterList& ex = in.sublist("Explicit");
-  ExplicitOptions eopt;
-  {
-    const std::string s = ex.get<std::string>("Update Scheme");
-    eopt.scheme = s == "USF" ? ExplicitScheme::USF : s == "MUSL" ? ExplicitScheme::MUSL : ExplicitScheme::USL;
-    eopt.flip = ex.get<double>("FLIP Fraction");
-    eopt.projectionIterations = ex.get<int>("Consistent Projection Iterations");
-    if (eopt.projectionIterations < 0)
-      throw DeckError("'Integrator/Explicit/Consistent Projection Iterations' must not be negative");
-    if (!(eopt.flip >= 0 && eopt.flip <= 1))
-      throw DeckError("'Integrator/Explicit/FLIP Fraction' must lie in [0, 1], got " + fmt(eopt.flip));
-    const double factor = positive(ex, "Integrator/Explicit", "Stability Factor");
-    // Bilinear cells with lumped mass: omega_max = 2 c_p sqrt(1/hx^2 + 1/hy^2), so dt_crit =
-    // 1 / (c_p sqrt(1/hx^2 + 1/hy^2)); h_min / c_p overestimates it (by 12% on the beam's 2:1
-    // cells, where 0.9 h_min / c_p was measured to blow up). c_p: the fastest material's.
-    const double cp = materials_.maxPWaveSpeed();
-    const double limit = factor / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
-    if (integratorType == "Explicit" && dt_ > limit)
-      throw DeckError("'Integrator/Time Step' = " + fmt(dt_) + " exceeds the explicit stable limit " + fmt(limit) +
-                      " (Stability Factor / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed " + fmt(cp) + " m/s)");
-  }
-
-  const bool gimp = shape_ == "GIMP", fe = shape_ == "FE Q4" || shape_ == "FE Q9";
-  if (fe && integratorType != "Implicit")
-    throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
-  // Solver options are checked whatever the integrator, so that a bad one never waits for a
-  // later implicit run to be found.
-  if (integratorType != "Implicit") {
-    try {
-      NewtonSolver check(Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver"))));
-    } catch (const std::invalid_argument& e) {
-      throw DeckError(e.what());
-    }
-  }
-  if (integratorType == "Implicit") {
-    const ParameterList& im = in.sublist("Implicit");
-    ImplicitOptions iopt;
-    iopt.maxStepHalvings = im.get<int>("Maximum Step Halvings");
-    if (iopt.maxStepHalvings < 0) throw DeckError("'Integrator/Implicit/Maximum Step Halvings' must not be negative");
-    iopt.consistentInitialAcceleration = im.get<bool>("Consistent Initial Acceleration");
-    iopt.projectionIterations = im.get<int>("Consistent Projection Iterations");
-    iopt.preconditionerRefreshInterval = im.get<int>("Preconditioner Refresh Interval");
-    iopt.consistentMass = im.get<std::string>("Mass Matrix") == "Consistent";
-    iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
-    iopt.fixedParticles = fe;
-    if (iopt.preconditionerRefreshInterval < 1)
-      throw DeckError("'Integrator/Implicit/Preconditioner Refresh Interval' must be at least 1");
-    if (iopt.projectionIterations < 0)
-      throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
-    iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
-    try {
-      if (gimp) integrator_ = std::make_unique<ImplicitNewmark<UniformGimp>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      else if (shape_ == "FE Q9") integrator_ = std::make_unique<ImplicitNewmark<QuadraticLagrange>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      else integrator_ = std::make_unique<ImplicitNewmark<LinearMpm>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-    } catch (const std::invalid_argument& e) {
-      throw DeckError(e.what());
-    }
-  } else if (gimp) {
-    integrator_ = std::make_unique<ExplicitStepper<UniformGimp>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
-  } else {
-    integrator_ = std::make_unique<ExplicitStepper<LinearMpm>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
-  }
-}
-
-void Simulation::nearestParticle(double px, double py, Monitor& m) const {
-  auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
-  auto idh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
-  double best = std::numeric_limits<double>::max();
-  int local = -1;
-  for (int p = 0; p < particles_.count; ++p) {
-    const double d = std::hypot(xh(p, 0) - px, xh(p, 1) - py);
-    if (d < best - 1e-15 * (1 + d)) { best = d; local = p; }
-  }
-  double gbest = 0;
-  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, best, Teuchos::outArg(gbest));
-  const int candidate = (local >= 0 && best == gbest) ? comm_->getRank() : comm_->getSize();
-  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, candidate, Teuchos::outArg(m.owner));
-  double pos[3] = {0, 0, 0}, gpos[3];
-  if (m.owner == comm_->getRank()) {
-    pos[0] = xh(local, 0); pos[1] = xh(local, 1); pos[2] = (double)idh(local);
-  } else {
-    local = -1;
-  }
-  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 3, pos, gpos);
-  m.localIndex = local;
-  m.x0 = gpos[0]; m.y0 = gpos[1];
-  m.particleId = std::llround(gpos[2]);
-}
 
 // A rank maps its particles onto its ghosted node columns; after migration every particle is in
 // its rank's slab, so this catches particles that left the grid (or a ghost band too narrow).
@@ -456,40 +59,6 @@ void Simulation::checkParticlesInReach(double t) const {
                              fmt(t) + " s (use a larger grid)");
 }
 
-void Simulation::locateMonitors() {
-  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
-  for (auto& m : monitors_) {
-    m.localIndex = -1;
-    for (int p = 0; p < particles_.count && m.localIndex < 0; ++p)
-      if (id(p) == m.particleId) m.localIndex = p;
-    const int here = m.localIndex >= 0 ? comm_->getRank() : comm_->getSize();
-    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, here, Teuchos::outArg(m.owner));
-  }
-}
-
-double Simulation::monitorValue(const Monitor& mon) const {
-  if (mon.owner != comm_->getRank()) return 0.0;
-  const int p = mon.localIndex;
-  auto read = [](const auto& view, int i, int c) {
-    double v;
-    Kokkos::deep_copy(v, Kokkos::subview(view, i, c));
-    return v;
-  };
-  const std::string& q = mon.quantity;
-  const bool fixed = particles_.fixedPositions();
-  if (q == "Displacement X") return fixed ? read(particles_.u, p, 0) : read(particles_.x, p, 0) - mon.x0;
-  if (q == "Displacement Y") return fixed ? read(particles_.u, p, 1) : read(particles_.x, p, 1) - mon.y0;
-  if (q == "Velocity X") return read(particles_.v, p, 0);
-  if (q == "Velocity Y") return read(particles_.v, p, 1);
-  if (q == "Stress XX") return read(particles_.stress, p, 0);
-  if (q == "Stress YY") return read(particles_.stress, p, 1);
-  return read(particles_.stress, p, 2);
-}
-
-double Simulation::exactValue(const Monitor& mon, double t) const {
-  return exact_ ? exact_->value(mon.quantity, mon.x0, mon.y0, t) : std::numeric_limits<double>::quiet_NaN();
-}
-
 RunResult Simulation::run(std::ostream& log) {
   namespace fs = std::filesystem;
   const int rank = comm_->getRank();
@@ -506,49 +75,8 @@ RunResult Simulation::run(std::ostream& log) {
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, localCount, Teuchos::outArg(r.particles));
   r.steps = steps_;
 
-  std::vector<bool> withExact;
-  for (const auto& mon : monitors_) withExact.push_back(hasExact() && !std::isnan(exactValue(mon, dt_)));
-
-  double momentumScale = 0;  // sum m |v| at t = 0
-  std::ofstream csv;
-  if (rank == 0) {
-    csv.open(outputDir_ + "/history.csv");
-    csv << "time";
-    for (size_t k = 0; k < monitors_.size(); ++k) {
-      csv << ',' << monitors_[k].name;
-      if (withExact[k]) csv << ',' << monitors_[k].name << "_exact";
-    }
-    if (energyHistory_) csv << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y";
-    csv << '\n' << std::setprecision(10);
-  }
-  auto record = [&](double t) {
-    std::vector<double> local(monitors_.size()), global(monitors_.size());
-    for (size_t k = 0; k < monitors_.size(); ++k) local[k] = monitorValue(monitors_[k]);
-    if (!monitors_.empty())
-      Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, (int)local.size(), local.data(), global.data());
-    r.time.push_back(t);
-    if (rank == 0) csv << t;
-    for (size_t k = 0; k < monitors_.size(); ++k) {
-      r.computed[monitors_[k].name].push_back(global[k]);
-      if (rank == 0) csv << ',' << global[k];
-      if (withExact[k]) {
-        const double ex = exactValue(monitors_[k], t);
-        r.exact[monitors_[k].name].push_back(ex);
-        if (rank == 0) csv << ',' << ex;
-      }
-    }
-    if (energyHistory_) {
-      const ParticleTotals e = particleTotals<ExecutionSpace>(particles_, materials_.law(), *comm_);
-      r.kinetic.push_back(e.kinetic);
-      r.strain.push_back(e.strain);
-      r.momentumX.push_back(e.momentum[0]);
-      r.momentumY.push_back(e.momentum[1]);
-      if (r.time.size() == 1) momentumScale = e.momentumScale;
-      if (rank == 0)
-        csv << ',' << e.kinetic << ',' << e.strain << ',' << e.total() << ',' << e.momentum[0] << ',' << e.momentum[1];
-    }
-    if (rank == 0) csv << '\n';
-  };
+  History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_);
+  history.open(outputDir_ + "/history.csv");
 
   PvdIndex pvd(outputDir_ + "/particles.pvd", comm_->getSize());
   int vtkCount = 0;
@@ -560,7 +88,7 @@ RunResult Simulation::run(std::ostream& log) {
     if (rank == 0) pvd.add(t, stem);
   };
 
-  record(0.0);
+  history.record(0.0, r);
   writeVtk(0.0);
   const bool tty = isatty(fileno(stderr));
   using clock = std::chrono::steady_clock;
@@ -573,7 +101,7 @@ RunResult Simulation::run(std::ostream& log) {
       integrator_->step(t, dt_);
     } catch (const NewtonNotConverged& e) {
       // Keep what was computed: the history so far, the last converged particles and a summary.
-      if (rank == 0) csv.close();
+      history.close();
       writeVtk(t);
       r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
       r.steps = n;
@@ -586,10 +114,10 @@ RunResult Simulation::run(std::ostream& log) {
     if (migrateParticles(particles_, *dist_) > 0) {
       // Local indices changed: find the monitored and loaded particles by global id.
       loads_.locateParticles(particles_);
-      locateMonitors();
+      history.locateMonitors();
     }
     checkParticlesInReach(tNew);
-    if ((n + 1) % historyInterval == 0 || n + 1 == steps_) record(tNew);
+    if ((n + 1) % historyInterval == 0 || n + 1 == steps_) history.record(tNew, r);
     if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);
     if (progress && rank == 0) {
       const auto now = clock::now();
@@ -608,28 +136,8 @@ RunResult Simulation::run(std::ostream& log) {
   r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
   r.particleStepsPerSecond = r.wallSeconds > 0 ? double(r.particles) * steps_ / r.wallSeconds : 0.0;
   writeVtk(steps_ * dt_);
-  if (rank == 0) csv.close();
-
-  for (size_t k = 0; k < monitors_.size(); ++k) {
-    if (!withExact[k]) continue;
-    const auto& c = r.computed[monitors_[k].name];
-    const auto& e = r.exact[monitors_[k].name];
-    double num = 0, den = 0;
-    for (size_t i = 0; i < c.size(); ++i) { num += (c[i] - e[i]) * (c[i] - e[i]); den += e[i] * e[i]; }
-    r.relativeL2[monitors_[k].name] = den > 0 ? std::sqrt(num / den) : std::sqrt(num);
-  }
-  if (energyHistory_ && !r.time.empty()) {
-    const double e0 = r.kinetic.front() + r.strain.front();
-    const double scale = e0 != 0 ? std::abs(e0) : 1.0;
-    r.energyRelativeDrift = (r.kinetic.back() + r.strain.back() - e0) / scale;
-    const double p0x = r.momentumX.front(), p0y = r.momentumY.front();
-    const double pscale = momentumScale > 0 ? momentumScale : 1.0;
-    for (size_t i = 0; i < r.time.size(); ++i) {
-      r.energyMaxRelativeDeviation = std::max(r.energyMaxRelativeDeviation, std::abs(r.kinetic[i] + r.strain[i] - e0) / scale);
-      r.momentumMaxRelativeChange =
-          std::max(r.momentumMaxRelativeChange, std::hypot(r.momentumX[i] - p0x, r.momentumY[i] - p0y) / pscale);
-    }
-  }
+  history.close();
+  history.finish(r);
   if (rank == 0) {
     writeSummary(r);
     log << deck_.sublist("Problem").get<std::string>("Name") << ": " << integrator_->name() << ", "
@@ -643,65 +151,6 @@ RunResult Simulation::run(std::ostream& log) {
           << r.energyMaxRelativeDeviation << "), momentum max relative change " << r.momentumMaxRelativeChange << "\n";
   }
   return r;
-}
-
-void Simulation::writeSummary(const RunResult& r) const {
-  ParameterList s("summary");
-  s.set("Problem", deck_.sublist("Problem").get<std::string>("Name"));
-  s.set("Method", deck_.sublist("Method").get<std::string>("Shape Function"));
-  s.set("Integrator", integrator_->name());
-  s.set("Plane Condition", materials_.planeName());
-  s.set("Bodies", (int)bodies_.size());
-  s.set("Materials", materials_.count());
-  s.set("Particles", (int)r.particles);
-  s.set("Steps", r.steps);
-  s.set("Time Step", dt_);
-  s.set("End Time", dt_ * r.steps);
-  s.set("MPI Ranks", comm_->getSize());
-  s.set("Threads", (int)ExecutionSpace::concurrency());
-  s.set("Execution Space", std::string(ExecutionSpace::name()));
-  s.set("Wall Time", r.wallSeconds);
-  s.set("Particle Steps Per Second", r.particleStepsPerSecond);
-  s.set("Status", r.status);
-  s.set("Exact Solution", exact_ ? exact_->type() : std::string("None"));
-  if (exact_) {
-    s.set("Exact Modulus", exact_->modulus());
-    exact_->addSummary(s);
-    ParameterList& err = s.sublist("Relative L2 Error");
-    for (const auto& [name, e] : r.relativeL2) err.set(name, e);
-  }
-  if (energyHistory_ && !r.time.empty()) {
-    ParameterList& e = s.sublist("Energy");
-    e.set("Initial Total", r.kinetic.front() + r.strain.front());
-    e.set("Final Total", r.kinetic.back() + r.strain.back());
-    e.set("Total Relative Drift", r.energyRelativeDrift);
-    e.set("Max Relative Deviation", r.energyMaxRelativeDeviation);
-    ParameterList& m = s.sublist("Momentum");
-    m.set("Initial X", r.momentumX.front());
-    m.set("Initial Y", r.momentumY.front());
-    m.set("Final X", r.momentumX.back());
-    m.set("Final Y", r.momentumY.back());
-    m.set("Max Relative Change", r.momentumMaxRelativeChange);
-  }
-  // Where each monitor sits (its particle's reference position), so that studies can evaluate
-  // other reference solutions at the same point.
-  ParameterList& mons = s.sublist("Monitors");
-  for (const auto& m : monitors_) {
-    ParameterList& e = mons.sublist(m.name);
-    e.set("Quantity", m.quantity);
-    e.set("Particle Id", (long long)m.particleId);
-    e.set("X", m.x0);
-    e.set("Y", m.y0);
-  }
-  integrator_->addStatistics(s);
-  if (PhaseTimer::enabled()) {
-    // Rank 0's totals in seconds (impm --timers prints min/mean/max over ranks).
-    ParameterList& timers = s.sublist("Timers");
-    for (const auto& [name, timer] : PhaseTimer::timers()) timers.set(name, timer->totalElapsedTime());
-  }
-  const std::string path = outputDir_ + "/summary.yaml";
-  Teuchos::writeParameterListToYamlFile(s, path + ".tmp");
-  std::filesystem::rename(path + ".tmp", path);
 }
 
 }  // namespace impm

@@ -1,7 +1,8 @@
-// One run of an input deck: builds the grid, materials, bodies and their particles,
-// constraints, loads, monitors, the exact solution and the integrator from a validated deck
-// (every semantic check happens here, before anything is written), then integrates and writes
-// history.csv, summary.yaml and the ParaView files. Plots are the driver's business (apps/).
+// One run of an input deck, in three files by concern: SimulationBuilder.cpp builds the grid,
+// materials, bodies and their particles, constraints, loads, monitors, the exact solution and
+// the integrator from a validated deck (every semantic check happens there, before anything is
+// written); Simulation.cpp is the run loop (steps, migration, history through History, ParaView
+// output, progress); SimulationSummary.cpp writes summary.yaml. Plots are the driver's (apps/).
 #pragma once
 
 #include <Teuchos_Comm.hpp>
@@ -19,33 +20,10 @@
 #include "physics/ExactReference.hpp"
 #include "physics/LinearElastic.hpp"
 #include "physics/Loads.hpp"
+#include "solvers/History.hpp"
 #include "solvers/Integrator.hpp"
 
 namespace impm {
-
-// A particle quantity followed over the run: the particle nearest a point at t = 0, found by
-// its global id.
-struct Monitor {
-  std::string name, quantity;
-  long long particleId = -1;  // global id of the particle
-  int owner = -1;             // rank that holds the particle
-  int localIndex = -1;        // its index on that rank
-  double x0 = 0, y0 = 0;      // its reference position (where the exact solution is evaluated)
-};
-
-struct RunResult {
-  double wallSeconds = 0;
-  long long particles = 0;
-  int steps = 0;
-  double particleStepsPerSecond = 0;
-  std::string status = "completed";
-  std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history
-  std::vector<double> time;                  // the recorded history
-  std::map<std::string, std::vector<double>> computed, exact;
-  // With Output/Energy And Momentum: per recorded time, and the drifts of summary.yaml.
-  std::vector<double> kinetic, strain, momentumX, momentumY;
-  double energyRelativeDrift = 0, energyMaxRelativeDeviation = 0, momentumMaxRelativeChange = 0;
-};
 
 class Simulation {
  public:
@@ -71,14 +49,10 @@ class Simulation {
   std::vector<ConstraintSpec> buildConstraints();
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
-  double monitorValue(const Monitor& m) const;
   void checkParticlesInReach(double t) const;
-  double exactValue(const Monitor& m, double t) const;
   void writeSummary(const RunResult& r) const;
   // The particle nearest (px, py) at t = 0 over all ranks.
   void nearestParticle(double px, double py, Monitor& m) const;
-  // After migration: each monitor's rank and local index from its global id.
-  void locateMonitors();
   const BodySpec& bodyNamed(const std::string& key, const std::string& name) const;
   void checkGridNode(const std::string& where, double x, double y) const;
 

@@ -1,0 +1,122 @@
+#include "solvers/History.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+
+#include "core/kernels/Energy.hpp"
+
+namespace impm {
+
+History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, const LinearElastic& materials,
+                 const ExactReference* exact, bool energyAndMomentum,
+                 const Teuchos::RCP<const Teuchos::Comm<int>>& comm, double firstTime)
+    : monitors_(monitors), particles_(particles), materials_(materials), exact_(exact), energy_(energyAndMomentum),
+      comm_(comm) {
+  for (const auto& m : monitors_)
+    withExact_.push_back(exact_ && !std::isnan(exact_->value(m.quantity, m.x0, m.y0, firstTime)));
+}
+
+void History::open(const std::string& path) {
+  if (comm_->getRank() != 0) return;
+  csv_.open(path);
+  csv_ << "time";
+  for (size_t k = 0; k < monitors_.size(); ++k) {
+    csv_ << ',' << monitors_[k].name;
+    if (withExact_[k]) csv_ << ',' << monitors_[k].name << "_exact";
+  }
+  if (energy_) csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y";
+  csv_ << '\n' << std::setprecision(10);
+}
+
+void History::close() {
+  if (csv_.is_open()) csv_.close();
+}
+
+double History::monitorValue(const Monitor& mon) const {
+  if (mon.owner != comm_->getRank()) return 0.0;
+  const int p = mon.localIndex;
+  auto read = [](const auto& view, int i, int c) {
+    double v;
+    Kokkos::deep_copy(v, Kokkos::subview(view, i, c));
+    return v;
+  };
+  const std::string& q = mon.quantity;
+  const bool fixed = particles_.fixedPositions();
+  if (q == "Displacement X") return fixed ? read(particles_.u, p, 0) : read(particles_.x, p, 0) - mon.x0;
+  if (q == "Displacement Y") return fixed ? read(particles_.u, p, 1) : read(particles_.x, p, 1) - mon.y0;
+  if (q == "Velocity X") return read(particles_.v, p, 0);
+  if (q == "Velocity Y") return read(particles_.v, p, 1);
+  if (q == "Stress XX") return read(particles_.stress, p, 0);
+  if (q == "Stress YY") return read(particles_.stress, p, 1);
+  return read(particles_.stress, p, 2);
+}
+
+void History::record(double t, RunResult& r) {
+  const bool root = comm_->getRank() == 0;
+  std::vector<double> local(monitors_.size()), global(monitors_.size());
+  for (size_t k = 0; k < monitors_.size(); ++k) local[k] = monitorValue(monitors_[k]);
+  if (!monitors_.empty())
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, (int)local.size(), local.data(), global.data());
+  r.time.push_back(t);
+  if (root) csv_ << t;
+  for (size_t k = 0; k < monitors_.size(); ++k) {
+    const Monitor& m = monitors_[k];
+    r.computed[m.name].push_back(global[k]);
+    if (root) csv_ << ',' << global[k];
+    if (withExact_[k]) {
+      const double ex = exact_->value(m.quantity, m.x0, m.y0, t);
+      r.exact[m.name].push_back(ex);
+      if (root) csv_ << ',' << ex;
+    }
+  }
+  if (energy_) {
+    const ParticleTotals e = particleTotals<ExecutionSpace>(particles_, materials_.law(), *comm_);
+    r.kinetic.push_back(e.kinetic);
+    r.strain.push_back(e.strain);
+    r.momentumX.push_back(e.momentum[0]);
+    r.momentumY.push_back(e.momentum[1]);
+    if (r.time.size() == 1) momentumScale_ = e.momentumScale;
+    if (root) csv_ << ',' << e.kinetic << ',' << e.strain << ',' << e.total() << ',' << e.momentum[0] << ',' << e.momentum[1];
+  }
+  if (root) csv_ << '\n';
+}
+
+void History::finish(RunResult& r) const {
+  for (size_t k = 0; k < monitors_.size(); ++k) {
+    if (!withExact_[k]) continue;
+    const auto& c = r.computed[monitors_[k].name];
+    const auto& e = r.exact[monitors_[k].name];
+    double num = 0, den = 0;
+    for (size_t i = 0; i < c.size(); ++i) { num += (c[i] - e[i]) * (c[i] - e[i]); den += e[i] * e[i]; }
+    r.relativeL2[monitors_[k].name] = den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+  }
+  if (energy_ && !r.time.empty()) {
+    const double e0 = r.kinetic.front() + r.strain.front();
+    const double scale = e0 != 0 ? std::abs(e0) : 1.0;
+    r.energyRelativeDrift = (r.kinetic.back() + r.strain.back() - e0) / scale;
+    const double p0x = r.momentumX.front(), p0y = r.momentumY.front();
+    // Bodies at rest: the change is absolute.
+    const double pscale = momentumScale_ > 0 ? momentumScale_ : 1.0;
+    for (size_t i = 0; i < r.time.size(); ++i) {
+      r.energyMaxRelativeDeviation = std::max(r.energyMaxRelativeDeviation, std::abs(r.kinetic[i] + r.strain[i] - e0) / scale);
+      r.momentumMaxRelativeChange =
+          std::max(r.momentumMaxRelativeChange, std::hypot(r.momentumX[i] - p0x, r.momentumY[i] - p0y) / pscale);
+    }
+  }
+}
+
+void History::locateMonitors() {
+  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
+  for (auto& m : monitors_) {
+    m.localIndex = -1;
+    for (int p = 0; p < particles_.count && m.localIndex < 0; ++p)
+      if (id(p) == m.particleId) m.localIndex = p;
+    const int here = m.localIndex >= 0 ? comm_->getRank() : comm_->getSize();
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, here, Teuchos::outArg(m.owner));
+  }
+}
+
+}  // namespace impm

@@ -1,0 +1,76 @@
+// Monitors and the run's history: the monitored particle quantities (with their exact values)
+// and, optionally, the energy and momentum sums, recorded every History Interval steps into
+// history.csv (rank 0) and the RunResult; then the relative L2 errors and the energy and
+// momentum drifts that summary.yaml reports.
+#pragma once
+
+#include <Teuchos_Comm.hpp>
+
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/ParticleSet.hpp"
+#include "physics/ExactReference.hpp"
+#include "physics/LinearElastic.hpp"
+
+namespace impm {
+
+// A particle quantity followed over the run: the particle nearest a point at t = 0, found by
+// its global id.
+struct Monitor {
+  std::string name, quantity;
+  long long particleId = -1;  // global id of the particle
+  int owner = -1;             // rank that holds the particle
+  int localIndex = -1;        // its index on that rank
+  double x0 = 0, y0 = 0;      // its reference position (where the exact solution is evaluated)
+};
+
+struct RunResult {
+  double wallSeconds = 0;
+  long long particles = 0;
+  int steps = 0;
+  double particleStepsPerSecond = 0;
+  std::string status = "completed";
+  std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history
+  std::vector<double> time;                  // the recorded history
+  std::map<std::string, std::vector<double>> computed, exact;
+  // With Output/Energy And Momentum: per recorded time, and the drifts of summary.yaml.
+  std::vector<double> kinetic, strain, momentumX, momentumY;
+  double energyRelativeDrift = 0, energyMaxRelativeDeviation = 0, momentumMaxRelativeChange = 0;
+};
+
+class History {
+ public:
+  // `exact` may be null. `firstTime` is a time at which the exact solution is evaluated to find
+  // which monitors it has (NaN: none).
+  History(std::vector<Monitor>& monitors, const ParticleSet& particles, const LinearElastic& materials,
+          const ExactReference* exact, bool energyAndMomentum, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+          double firstTime);
+
+  // Rank 0 writes the header of `path`; collective.
+  void open(const std::string& path);
+  // One row at time t, into the file and into r. Collective.
+  void record(double t, RunResult& r);
+  void close();
+  // Relative L2 errors and energy / momentum drifts of the recorded rows, into r.
+  void finish(RunResult& r) const;
+  // After particles migrate: each monitor's rank and local index from its global id.
+  void locateMonitors();
+
+ private:
+  double monitorValue(const Monitor& m) const;
+
+  std::vector<Monitor>& monitors_;
+  const ParticleSet& particles_;
+  const LinearElastic& materials_;
+  const ExactReference* exact_;
+  bool energy_;
+  Teuchos::RCP<const Teuchos::Comm<int>> comm_;
+  std::vector<bool> withExact_;
+  std::ofstream csv_;
+  double momentumScale_ = 0;  // sum m |v| at the first row
+};
+
+}  // namespace impm

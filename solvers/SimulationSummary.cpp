@@ -1,0 +1,73 @@
+// Simulation, part 3: summary.yaml (the keys are listed in README.md, "Outputs").
+#include "solvers/Simulation.hpp"
+
+#include <Teuchos_YamlParameterListCoreHelpers.hpp>
+
+#include <filesystem>
+
+#include "core/PhaseTimer.hpp"
+
+namespace impm {
+
+using Teuchos::ParameterList;
+
+void Simulation::writeSummary(const RunResult& r) const {
+  ParameterList s("summary");
+  s.set("Problem", deck_.sublist("Problem").get<std::string>("Name"));
+  s.set("Method", deck_.sublist("Method").get<std::string>("Shape Function"));
+  s.set("Integrator", integrator_->name());
+  s.set("Plane Condition", materials_.planeName());
+  s.set("Bodies", (int)bodies_.size());
+  s.set("Materials", materials_.count());
+  s.set("Particles", (int)r.particles);
+  s.set("Steps", r.steps);
+  s.set("Time Step", dt_);
+  s.set("End Time", dt_ * r.steps);
+  s.set("MPI Ranks", comm_->getSize());
+  s.set("Threads", (int)ExecutionSpace::concurrency());
+  s.set("Execution Space", std::string(ExecutionSpace::name()));
+  s.set("Wall Time", r.wallSeconds);
+  s.set("Particle Steps Per Second", r.particleStepsPerSecond);
+  s.set("Status", r.status);
+  s.set("Exact Solution", exact_ ? exact_->type() : std::string("None"));
+  if (exact_) {
+    s.set("Exact Modulus", exact_->modulus());
+    exact_->addSummary(s);
+    ParameterList& err = s.sublist("Relative L2 Error");
+    for (const auto& [name, e] : r.relativeL2) err.set(name, e);
+  }
+  if (energyHistory_ && !r.time.empty()) {
+    ParameterList& e = s.sublist("Energy");
+    e.set("Initial Total", r.kinetic.front() + r.strain.front());
+    e.set("Final Total", r.kinetic.back() + r.strain.back());
+    e.set("Total Relative Drift", r.energyRelativeDrift);
+    e.set("Max Relative Deviation", r.energyMaxRelativeDeviation);
+    ParameterList& m = s.sublist("Momentum");
+    m.set("Initial X", r.momentumX.front());
+    m.set("Initial Y", r.momentumY.front());
+    m.set("Final X", r.momentumX.back());
+    m.set("Final Y", r.momentumY.back());
+    m.set("Max Relative Change", r.momentumMaxRelativeChange);
+  }
+  // Where each monitor sits (its particle's reference position), so that studies can evaluate
+  // other reference solutions at the same point.
+  ParameterList& mons = s.sublist("Monitors");
+  for (const auto& m : monitors_) {
+    ParameterList& e = mons.sublist(m.name);
+    e.set("Quantity", m.quantity);
+    e.set("Particle Id", (long long)m.particleId);
+    e.set("X", m.x0);
+    e.set("Y", m.y0);
+  }
+  integrator_->addStatistics(s);
+  if (PhaseTimer::enabled()) {
+    // Rank 0's totals in seconds (impm --timers prints min/mean/max over ranks).
+    ParameterList& timers = s.sublist("Timers");
+    for (const auto& [name, timer] : PhaseTimer::timers()) timers.set(name, timer->totalElapsedTime());
+  }
+  const std::string path = outputDir_ + "/summary.yaml";
+  Teuchos::writeParameterListToYamlFile(s, path + ".tmp");
+  std::filesystem::rename(path + ".tmp", path);
+}
+
+}  // namespace impm
