@@ -27,6 +27,11 @@ enum : int { Mass = 0, VelX, VelY, AccX, AccY, FextX, FextY, FreeX, FreeY, Count
 namespace dp {
 enum : int { UX = 0, UY, AnewX, AnewY, Count };
 }
+// Columns of the force multivectors: the force on the nodes (internal, plus external for the
+// initial acceleration) and the consistent-mass product M_C u of the residual.
+namespace fc {
+enum : int { ForceX = 0, ForceY, MassProductX, MassProductY, Count };
+}
 }  // namespace
 
 template <class Shape>
@@ -40,8 +45,8 @@ ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistri
   dispOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), dp::Count));
   dispGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), dp::Count));
   // Columns 0-1: internal force; 2-3: M_C u (consistent mass).
-  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 4));
-  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 4));
+  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), fc::Count));
+  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), fc::Count));
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
   seedGimpStiffness_ = std::is_same<Shape, UniformGimp>::value && opt_.seedGimpStiffness;
   blockNodes_ = seedGimpStiffness_ ? 2 : Shape::max_nodes_1d;
@@ -90,13 +95,13 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
     forceGhosted_->putScalar(0.0);
     {
       auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-      accumulateInternalForce<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, 0);
-      loads_.template scatterParticleForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, f, 0, t);
+      accumulateInternalForce<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, fc::ForceX);
+      loads_.template scatterParticleForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, f, fc::ForceX, t);
     }
     forceOwned_->putScalar(0.0);
     forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
     auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    loads_.template applyNodal<Exec>(f, 0, t);
+    loads_.template applyNodal<Exec>(f, fc::ForceX, t);
   }
   firstStep_ = false;
 
@@ -131,7 +136,7 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
           const bool massive = m > cutoff;
           for (int d = 0; d < 2; ++d) {
             s(n, st::VelX + d) = massive ? s(n, st::VelX + d) / m : 0.0;
-            s(n, st::AccX + d) = massive ? (initialAcceleration ? f(n, d) / m : s(n, st::AccX + d) / m) : 0.0;
+            s(n, st::AccX + d) = massive ? (initialAcceleration ? f(n, fc::ForceX + d) / m : s(n, st::AccX + d) / m) : 0.0;
             s(n, st::FreeX + d) = massive ? 1.0 : 0.0;
           }
         });
@@ -225,13 +230,13 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
             const double s0[4] = {sig(p, 0), sig(p, 1), sig(p, 2), sig(p, 3)};
             double trial[4];
             law.stress(matId(p), s0, l00, l01, l10, l11, trial);
-            scatterInternalForce(st, ix, vol(p), trial[0], trial[1], trial[2], out, 0);
+            scatterInternalForce(st, ix, vol(p), trial[0], trial[1], trial[2], out, fc::ForceX);
           });
     }
     if (opt_.consistentMass) {
       // M_C u = sum_p m_p S_ip u_p with u_p = sum_j S_jp u_j (consistent-mass residual only).
       auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-      particleToGridMassProduct<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX, f, 2);
+      particleToGridMassProduct<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX, f, fc::MassProductX);
     }
   }
   forceOwned_->putScalar(0.0);
@@ -249,8 +254,8 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
         const double m = s(n, st::Mass);
         // f holds the internal force acting on the node (-int B^T sigma).
         // m v and m a are the particle-to-grid momentum and m a sums (lumped normalisation undone).
-        const double inertia = consistent ? c1 * f(n, 2 + d) : m * c1 * uv(k, 0);
-        r(k, 0) = inertia - m * (c2 * s(n, st::VelX + d) + s(n, st::AccX + d)) - f(n, d) - s(n, st::FextX + d);
+        const double inertia = consistent ? c1 * f(n, fc::MassProductX + d) : m * c1 * uv(k, 0);
+        r(k, 0) = inertia - m * (c2 * s(n, st::VelX + d) + s(n, st::AccX + d)) - f(n, fc::ForceX + d) - s(n, st::FextX + d);
       });
 }
 
