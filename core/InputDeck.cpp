@@ -5,6 +5,7 @@
 #include <Teuchos_YamlParameterListCoreHelpers.hpp>
 
 #include <fstream>
+#include <iomanip>
 #include <set>
 #include <sstream>
 
@@ -35,6 +36,16 @@ void choice(ParameterList& pl, const std::string& key, const std::string& def,
 const std::set<std::string> kCollections = {"Materials", "Bodies", "Constraints", "Loads", "Monitors"};
 // Sublists handed unchanged to Trilinos packages, which validate them themselves.
 const std::set<std::string> kPassThrough = {"Implicit Solver"};
+
+}  // namespace
+
+std::string formatNumber(double value) {
+  std::ostringstream os;
+  os << std::setprecision(6) << value;
+  return os.str();
+}
+
+namespace {
 
 std::string valueString(const Teuchos::ParameterEntry& e) {
   std::ostringstream os;
@@ -315,10 +326,7 @@ namespace {
 RCP<const ParameterList> legacyTemplate(const std::string& section) {
   auto pl = rcp(new ParameterList(section));
   if (section == "Material") {
-    choice(*pl, "Model", "Linear Elastic", {"Linear Elastic"}, "constitutive model");
-    number(*pl, "Young Modulus", 200.0e9, "E (Pa)");
-    number(*pl, "Poisson Ratio", 0.3, "nu, in (-1, 0.5)");
-    number(*pl, "Density", 7800.0, "rho (kg/m^3)");
+    pl->setParameters(*collectionTemplate("Materials"));
     choice(*pl, "Plane Condition", "Plane Strain", {"Plane Strain", "Plane Stress"}, "2D idealisation");
     number(*pl, "Thickness", 1.0, "out-of-plane thickness b (m)");
   } else if (section == "Body") {

@@ -15,6 +15,9 @@ struct DeckError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A number as messages print it (6 significant digits).
+std::string formatNumber(double value);
+
 // Every valid parameter with its default and documentation. The collections "Materials",
 // "Bodies", "Constraints", "Loads" and "Monitors" hold any number of named sublists, each of
 // the form collectionTemplate(name). The single-body form (sections "Material" and "Body") is

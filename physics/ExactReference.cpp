@@ -19,12 +19,6 @@ namespace {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
 // The body an exact solution describes: Exact Solution/Body, or the first body; a Rectangle.
 const BodySpec& exactBody(const ParameterList& e, const ExactContext& c) {
   const std::string name = e.get<std::string>("Body");
@@ -130,7 +124,7 @@ class SimplySupportedBeam : public ExactReference {
     timoshenko_ = e.get<std::string>("Beam Theory") == "Timoshenko";
     if (timoshenko_) {
       const double kappa = e.get<double>("Shear Coefficient");
-      if (!(kappa > 0)) throw DeckError("'Exact Solution/Shear Coefficient' must be positive, got " + fmt(kappa));
+      if (!(kappa > 0)) throw DeckError("'Exact Solution/Shear Coefficient' must be positive, got " + formatNumber(kappa));
       const double G = mat.E / (2.0 * (1.0 + mat.nu));
       timo_ = TimoshenkoBeamHarmonic{r.length(), load.x - r.xMin, modulus_, G, kappa, A, I, mat.density, load.forceY,
                                      load.time.omega};
@@ -191,8 +185,8 @@ class LayeredBar : public ExactReference {
       const double tol = 1e-9 * (bodies.back()->rect.xMax - x0);
       if (k > 0 && std::abs(r.xMin - bodies[k - 1]->rect.xMax) > tol)
         throw DeckError("'Exact Solution/Type' = Layered Bar Step Load needs the bodies to touch end to end along x: 'Bodies/" +
-                        bodies[k]->name + "' starts at X Min = " + fmt(r.xMin) + ", 'Bodies/" + bodies[k - 1]->name +
-                        "' ends at X Max = " + fmt(bodies[k - 1]->rect.xMax));
+                        bodies[k]->name + "' starts at X Min = " + formatNumber(r.xMin) + ", 'Bodies/" + bodies[k - 1]->name +
+                        "' ends at X Max = " + formatNumber(bodies[k - 1]->rect.xMax));
       if (std::abs(r.height() - height) > 1e-9 * height)
         throw DeckError("'Exact Solution/Type' = Layered Bar Step Load needs bodies of one height: 'Bodies/" +
                         bodies[k]->name + "' differs");

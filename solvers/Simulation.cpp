@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "core/InputDeck.hpp"
 #include "core/ParticleMigration.hpp"
 #include "core/output/VtkWriter.hpp"
 #include "solvers/History.hpp"
@@ -20,14 +21,6 @@
 namespace impm {
 
 using Teuchos::ParameterList;
-
-namespace {
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << std::setprecision(6) << v;
-  return os.str();
-}
-}  // namespace
 
 Simulation::~Simulation() = default;
 
@@ -56,7 +49,7 @@ void Simulation::checkParticlesInReach(double t) const {
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, outside, Teuchos::outArg(total));
   if (total > 0)
     throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the columns their MPI rank maps at t = " +
-                             fmt(t) + " s (use a larger grid)");
+                             formatNumber(t) + " s (use a larger grid)");
 }
 
 RunResult Simulation::run(std::ostream& log) {
@@ -107,7 +100,7 @@ RunResult Simulation::run(std::ostream& log) {
       r.steps = n;
       r.status = std::string("stopped: ") + e.what();
       if (rank == 0) writeSummary(r);
-      throw std::runtime_error(std::string(e.what()) + "; the last converged state (t = " + fmt(t) +
+      throw std::runtime_error(std::string(e.what()) + "; the last converged state (t = " + formatNumber(t) +
                                " s) is in " + outputDir_);
     }
     const double tNew = (n + 1) * dt_;

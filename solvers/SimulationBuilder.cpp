@@ -23,15 +23,10 @@ using Teuchos::ParameterList;
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << std::setprecision(6) << v;
-  return os.str();
-}
 
 double positive(const ParameterList& pl, const std::string& section, const std::string& key) {
   const double v = pl.get<double>(key);
-  if (!(v > 0)) throw DeckError("'" + section + "/" + key + "' must be positive, got " + fmt(v));
+  if (!(v > 0)) throw DeckError("'" + section + "/" + key + "' must be positive, got " + formatNumber(v));
   return v;
 }
 int positiveInt(const ParameterList& pl, const std::string& section, const std::string& key) {
@@ -52,7 +47,7 @@ void Simulation::checkGridNode(const std::string& where, double x, double y) con
   const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
   if (!onGridLine(x, grid_.x0, grid_.hx) || !onGridLine(y, grid_.y0, grid_.hy) || x < grid_.x0 - tolx ||
       x > grid_.xMax() + tolx || y < grid_.y0 - toly || y > grid_.yMax() + toly)
-    throw DeckError("'" + where + "/X', '" + where + "/Y' = (" + fmt(x) + ", " + fmt(y) + ") is not a grid node");
+    throw DeckError("'" + where + "/X', '" + where + "/Y' = (" + formatNumber(x) + ", " + formatNumber(y) + ") is not a grid node");
 }
 
 Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
@@ -98,7 +93,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   if (icType == "Standing Wave") {
     if (!(icAmplitude != 0.0 && std::isfinite(icAmplitude)))
       throw DeckError("'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
-                      fmt(icAmplitude));
+                      formatNumber(icAmplitude));
     if (icMode < 1)
       throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " + std::to_string(icMode));
     const BodySpec& b = bodyNamed("Exact Solution/Body", deck_.sublist("Exact Solution").get<std::string>("Body"));
@@ -156,7 +151,7 @@ void Simulation::buildMaterialsAndBodies() {
     p.density = positive(m, key, "Density");
     p.nu = m.get<double>("Poisson Ratio");
     if (!(p.nu > -1.0 && p.nu < 0.5))
-      throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + fmt(p.nu));
+      throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + formatNumber(p.nu));
     params.push_back(p);
     materialNames_.push_back(name);
   }
@@ -202,16 +197,16 @@ void Simulation::buildMaterialsAndBodies() {
         r.yMin = b.get<double>("Y Min"); r.yMax = b.get<double>("Y Max");
         if (!(r.xMax > r.xMin)) throw DeckError("'" + key + "/X Max' must exceed '" + key + "/X Min'");
         if (!(r.yMax > r.yMin)) throw DeckError("'" + key + "/Y Max' must exceed '" + key + "/Y Min'");
-        if (r.xMin < grid_.x0 - tolx) throw DeckError("particles outside the grid: '" + key + "/X Min' = " + fmt(r.xMin) + " is left of the grid origin " + fmt(grid_.x0));
-        if (r.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: '" + key + "/X Max' = " + fmt(r.xMax) + " is beyond the grid's right edge " + fmt(grid_.xMax()));
-        if (r.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + fmt(r.yMin) + " is below the grid origin " + fmt(grid_.y0));
-        if (r.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + fmt(r.yMax) + " is above the grid's top edge " + fmt(grid_.yMax()));
+        if (r.xMin < grid_.x0 - tolx) throw DeckError("particles outside the grid: '" + key + "/X Min' = " + formatNumber(r.xMin) + " is left of the grid origin " + formatNumber(grid_.x0));
+        if (r.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: '" + key + "/X Max' = " + formatNumber(r.xMax) + " is beyond the grid's right edge " + formatNumber(grid_.xMax()));
+        if (r.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + formatNumber(r.yMin) + " is below the grid origin " + formatNumber(grid_.y0));
+        if (r.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + formatNumber(r.yMax) + " is above the grid's top edge " + formatNumber(grid_.yMax()));
         for (auto [k, v, o, h] : {std::make_tuple("X Min", r.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", r.xMax, grid_.x0, grid_.hx),
                                   std::make_tuple("Y Min", r.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", r.yMax, grid_.y0, grid_.hy)}) {
-          if (!onGridLine(v, o, h)) throw DeckError("'" + key + "/" + k + "' = " + fmt(v) + " is not on a grid line");
+          if (!onGridLine(v, o, h)) throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on a grid line");
           // FE Q9: elements of 2 x 2 cells, the body made of whole elements.
           if (placement_ == Placement::GaussQ9 && std::lround((v - o) / h) % 2)
-            throw DeckError("'" + key + "/" + k + "' = " + fmt(v) + " is not on an element edge of FE Q9 (an even grid line)");
+            throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on an element edge of FE Q9 (an even grid line)");
         }
         body.rectangle = true;
         body.shape = makeRectangle(r.xMin, r.xMax, r.yMin, r.yMax);
@@ -243,7 +238,7 @@ void Simulation::buildMaterialsAndBodies() {
       body.shape->boundingBox(xlo, xhi, ylo, yhi);
       if (xlo < grid_.x0 - tolx || xhi > grid_.xMax() + tolx || ylo < grid_.y0 - toly || yhi > grid_.yMax() + toly)
         throw DeckError("particles outside the grid: '" + key + "' (" + body.shape->describe() + ") extends beyond the grid [" +
-                        fmt(grid_.x0) + ", " + fmt(grid_.xMax()) + "] x [" + fmt(grid_.y0) + ", " + fmt(grid_.yMax()) + "]");
+                        formatNumber(grid_.x0) + ", " + formatNumber(grid_.xMax()) + "] x [" + formatNumber(grid_.y0) + ", " + formatNumber(grid_.yMax()) + "]");
     }
     bodies_.push_back(body);
   }
@@ -275,8 +270,8 @@ std::vector<ConstraintSpec> Simulation::buildConstraints() {
       if (!(s.xMax >= s.xMin && s.yMax >= s.yMin))
         throw DeckError("'" + key + "': the box needs X Max >= X Min and Y Max >= Y Min");
       if (boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax).empty())
-        throw DeckError("'" + key + "': the box [" + fmt(s.xMin) + ", " + fmt(s.xMax) + "] x [" + fmt(s.yMin) + ", " +
-                        fmt(s.yMax) + "] holds no grid node");
+        throw DeckError("'" + key + "': the box [" + formatNumber(s.xMin) + ", " + formatNumber(s.xMax) + "] x [" + formatNumber(s.yMin) + ", " +
+                        formatNumber(s.yMax) + "] holds no grid node");
     }
     specs.push_back(s);
   }
@@ -339,7 +334,7 @@ void Simulation::buildIntegrator() {
     if (eopt.projectionIterations < 0)
       throw DeckError("'Integrator/Explicit/Consistent Projection Iterations' must not be negative");
     if (!(eopt.flip >= 0 && eopt.flip <= 1))
-      throw DeckError("'Integrator/Explicit/FLIP Fraction' must lie in [0, 1], got " + fmt(eopt.flip));
+      throw DeckError("'Integrator/Explicit/FLIP Fraction' must lie in [0, 1], got " + formatNumber(eopt.flip));
     const double factor = positive(ex, "Integrator/Explicit", "Stability Factor");
     // Bilinear cells with lumped mass: omega_max = 2 c_p sqrt(1/hx^2 + 1/hy^2), so dt_crit =
     // 1 / (c_p sqrt(1/hx^2 + 1/hy^2)); h_min / c_p overestimates it (by 12% on the beam's 2:1
@@ -347,8 +342,8 @@ void Simulation::buildIntegrator() {
     const double cp = materials_.maxPWaveSpeed();
     const double limit = factor / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
     if (integratorType == "Explicit" && dt_ > limit)
-      throw DeckError("'Integrator/Time Step' = " + fmt(dt_) + " exceeds the explicit stable limit " + fmt(limit) +
-                      " (Stability Factor / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed " + fmt(cp) + " m/s)");
+      throw DeckError("'Integrator/Time Step' = " + formatNumber(dt_) + " exceeds the explicit stable limit " + formatNumber(limit) +
+                      " (Stability Factor / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed " + formatNumber(cp) + " m/s)");
   }
 
   const bool gimp = shape_ == "GIMP", fe = shape_ == "FE Q4" || shape_ == "FE Q9";
