@@ -25,31 +25,34 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist) {
   const int leftBegin = rank > 0 ? slabBegin(rank - 1) : begin;
   const int rightEnd = rank < nranks - 1 ? slabBegin(rank + 1) + base + (rank + 1 < extra ? 1 : 0) : end;
 
-  ParticleSet::Ids destination("migration_destination", ps.count);
+  // Destination of particle p from its cell column c.
+  auto destinationOf = [=](int c) {
+    if (c < begin) return c >= leftBegin ? int(Left) : int(TooFar);
+    if (c >= end) return c < rightEnd ? int(Right) : int(TooFar);
+    return int(Stay);
+  };
+  // Every step: a count only (no allocation); the lists are built on the rare steps that need them.
   auto x = ps.x;
   int leaving = 0;
   Kokkos::parallel_reduce(
-      "migration_destination", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count),
+      "migration_count", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count),
       KOKKOS_LAMBDA(int p, int& count) {
         const int c = cellColumnOf(g, x(p, 0));
-        int d = Stay;
-        if (c < begin) d = c >= leftBegin ? Left : TooFar;
-        else if (c >= end) d = c < rightEnd ? Right : TooFar;
-        destination(p) = d;
-        count += d != Stay;
+        count += (c < begin || c >= end) ? 1 : 0;
       },
       leaving);
   long long moved = 0, local = leaving;
   Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, local, Teuchos::outArg(moved));
   if (moved == 0) return 0;
 
-  auto dh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), destination);
+  auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
   std::vector<int> stay, toLeft, toRight;
   int tooFar = 0;
   for (int p = 0; p < ps.count; ++p) {
-    if (dh(p) == Stay) stay.push_back(p);
-    else if (dh(p) == Left) toLeft.push_back(p);
-    else if (dh(p) == Right) toRight.push_back(p);
+    const int d = destinationOf(cellColumnOf(g, xh(p, 0)));
+    if (d == Stay) stay.push_back(p);
+    else if (d == Left) toLeft.push_back(p);
+    else if (d == Right) toRight.push_back(p);
     else ++tooFar;
   }
   int anyTooFar = 0;
