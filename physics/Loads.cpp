@@ -1,5 +1,6 @@
 #include "physics/Loads.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "physics/Constraints.hpp"
@@ -16,22 +17,32 @@ double TimeFunction::operator()(double t) const {
 }
 
 namespace {
-// int over [lo, hi] of the 1D tent of node c (spacing h, at position xc), divided by (hi - lo):
-// the share of a uniform traction on [lo, hi] that the node receives.
-double tentShare(double xc, double h, double lo, double hi) {
-  auto integral = [&](double s) {  // int_{-inf}^{s} N(x) dx, N(x) = max(0, 1 - |x - xc| / h)
-    const double r = (s - xc) / h;
-    if (r <= -1) return 0.0;
-    if (r <= 0) return 0.5 * h * (1 + r) * (1 + r);
-    if (r <= 1) return h * (1.0 - 0.5 * (1 - r) * (1 - r));
-    return h;
+// The share of a uniform traction on [lo, hi] that node `node` (at xc) receives: the integral of
+// its 1D shape function over [lo, hi] divided by (hi - lo), the consistent nodal force. Tents for
+// MPM, GIMP and FE Q4; the quadratic Lagrange functions for FE Q9, whose element edge gives
+// 1/6, 2/3, 1/6 (tent shares there would load the mid-side node like a corner node and break
+// the patch test). Both are polynomials of degree <= 2 between grid lines, so 3-point Gauss-
+// Legendre on each grid interval of [lo, hi] is exact.
+double faceShare(bool quadratic, int node, double xc, double h, double lo, double hi) {
+  auto shape = [&](double x) {
+    return quadratic ? QuadraticLagrange::value(x - xc, h, 0.0, node) : LinearMpm::value(x - xc, h, 0.0);
   };
-  return (integral(hi) - integral(lo)) / (hi - lo);
+  const double gaussPoint[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+  const double gaussWeight[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  const double reach = quadratic ? 2.0 * h : h;
+  const double a = std::max(lo, xc - reach), b = std::min(hi, xc + reach);
+  double integral = 0.0;
+  for (double s = a; s < b;) {
+    const double e = std::min(b, xc + (std::floor((s - xc) / h + 1e-12) + 1.0) * h);  // next grid line
+    for (int q = 0; q < 3; ++q) integral += 0.5 * (e - s) * gaussWeight[q] * shape(0.5 * (s + e) + 0.5 * (e - s) * gaussPoint[q]);
+    s = e;
+  }
+  return integral / (hi - lo);
 }
 }  // namespace
 
 LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dist, const std::vector<long long>& particleIds,
-                 int bodyCount)
+                 int bodyCount, bool quadraticElements)
     : specs_(specs), bodyCount_(bodyCount) {
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
@@ -43,8 +54,8 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dis
       const RectangularBody& body = s.body;
       const bool vertical = (s.face == "x-" || s.face == "x+");
       for (auto [i, j] : faceNodes(g, body, s.face)) {
-        const double w = vertical ? tentShare(g.nodeY(j), g.hy, body.yMin, body.yMax)
-                                  : tentShare(g.nodeX(i), g.hx, body.xMin, body.xMax);
+        const double w = vertical ? faceShare(quadraticElements, j, g.nodeY(j), g.hy, body.yMin, body.yMax)
+                                  : faceShare(quadraticElements, i, g.nodeX(i), g.hx, body.xMin, body.xMax);
         if (owned.contains(i, j) && w > 0) { nodes.push_back(owned(i, j)); loads.push_back((int)l); weights.push_back(w); }
       }
     } else if (s.type == "Node Force") {

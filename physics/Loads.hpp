@@ -45,9 +45,10 @@ class LoadSet {
  public:
   LoadSet() = default;
   // particleIds[k]: global id of the particle carrying load k (Particle Force), -1 otherwise.
-  // Call locateParticles() before stepping (and after particles migrate).
+  // Call locateParticles() before stepping (and after particles migrate). quadraticElements: the
+  // grid's functions are FE Q9's (face tractions then take the quadratic edge's shares).
   LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dist, const std::vector<long long>& particleIds,
-          int bodyCount);
+          int bodyCount, bool quadraticElements = false);
   // Finds this rank's particles of the Particle Force loads by global id.
   void locateParticles(const ParticleSet& ps);
 

@@ -438,7 +438,7 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
   {
     auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX);
-    updateStress<Exec>(ps_, mat_.law(), 1.0);
+    updateStress<Exec>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles);
     const StructuredGrid g = dist_.grid();
     const LocalNodeIndexer ix = dist_.ghostedIndexer();
     auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;

@@ -316,7 +316,7 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     loadParticle.push_back(particle);
     specs.push_back(s);
   }
-  loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size());
+  loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size(), shape_ == "FE Q9");
   loads_.locateParticles(particles_);
   return specs;
 }
