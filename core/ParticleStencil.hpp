@@ -13,7 +13,7 @@ struct ParticleStencil {
   int i0 = 0, j0 = 0, ni = 0, nj = 0;
   double wx[N], gx[N], wy[N], gy[N];
 
-  // (x, y): particle centre; (lx, ly): half sizes of its domain.
+  // (x, y): particle centre; (lx, ly): half sizes of its domain (clipped to the grid, see build1d).
   KOKKOS_INLINE_FUNCTION
   ParticleStencil(const StructuredGrid& g, double x, double y, double lx, double ly) {
     build1d(x, g.x0, g.hx, lx, g.nx, i0, ni, wx, gx);
@@ -40,6 +40,19 @@ struct ParticleStencil {
  private:
   KOKKOS_INLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,
                                              int& first, int& count, double* w, double* gr) {
+    if (!Shape::fixed_count) {
+      // A particle domain is clipped to the grid: the grid's edge is the body's boundary. The
+      // clipped domain's functions keep the partition of unity (sum w = 1, sum grad = 0), so
+      // rigid motion stays strain-free and mass, force and stiffness see the same domain.
+      // (Dropping the nodes beyond the edge instead lost both, and a GIMP body that filled the
+      // grid vibrated up to 3 times too fast; issue 12.)
+      const double lo = x - l > origin ? x - l : origin;
+      const double end = origin + ncells * h;
+      const double hi = x + l < end ? x + l : end;
+      if (!(hi > lo)) { first = 0; count = 0; return; }  // wholly outside (the run loop stops)
+      x = 0.5 * (lo + hi);
+      l = 0.5 * (hi - lo);
+    }
     Shape::range((x - origin) / h, l / h, first, count);
     if (Shape::fixed_count) {
       // Keep the full stencil inside the grid (a particle on the last grid line uses the last cell).
@@ -47,7 +60,7 @@ struct ParticleStencil {
       // (ncells - count + 1 is even for the quadratic element, whose ncells is even.)
       if (first > ncells - count + 1) first = ncells - count + 1;
     } else {
-      // Nodes outside the grid carry (to round-off) zero weight: drop them.
+      // Inside the grid a node whose function the domain only touches has zero weight: drop it.
       if (first < 0) { count += first; first = 0; }
       if (first + count > ncells + 1) count = ncells + 1 - first;
     }

@@ -20,8 +20,8 @@ struct StructuredGrid {
   KOKKOS_INLINE_FUNCTION long long cellId(int i, int j) const { return (long long)i * ny + j; }
   KOKKOS_INLINE_FUNCTION double nodeX(int i) const { return x0 + i * hx; }
   KOKKOS_INLINE_FUNCTION double nodeY(int j) const { return y0 + j * hy; }
-  double xMax() const { return x0 + nx * hx; }
-  double yMax() const { return y0 + ny * hy; }
+  KOKKOS_INLINE_FUNCTION double xMax() const { return x0 + nx * hx; }
+  KOKKOS_INLINE_FUNCTION double yMax() const { return y0 + ny * hy; }
 };
 
 // Local indexing of the nodes a rank sees (owned plus ghost): node columns

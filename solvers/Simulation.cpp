@@ -29,20 +29,22 @@ Simulation::~Simulation() = default;
 void Simulation::checkParticlesInReach(double t) const {
   const StructuredGrid g = grid_;
   const LocalNodeIndexer ix = dist_->ghostedIndexer();
-  // Stencils reach one column beyond the particle's cell (GIMP: its domain's cells plus one).
-  // At the grid's own edges stencils are clamped, so a body that fills the grid may stretch a
-  // little past them (the seed's bar does); half a cell is allowed there.
-  const double xLo = ix.colBegin > 0 ? g.nodeX(ix.colBegin) + g.hx : g.x0 - 0.5 * g.hx;
-  const double xHi = ix.colEnd - 1 < g.nx ? g.nodeX(ix.colEnd - 1) - g.hx : g.xMax() + 0.5 * g.hx;
-  const double yLo = g.y0 - 0.5 * g.hy, yHi = g.yMax() + 0.5 * g.hy;
+  // Between ranks, stencils reach one column beyond the particle domain's cells. At the grid's
+  // own edges a particle's centre must stay inside: an MPM point beyond the last node line loses
+  // the partition of unity (its weights no longer sum to 1), and a GIMP domain is clipped to the
+  // grid, which keeps at least half of it (ParticleStencil).
+  const bool lowEdge = ix.colBegin == 0, highEdge = ix.colEnd - 1 >= g.nx;
+  const double xLo = lowEdge ? g.x0 : g.nodeX(ix.colBegin) + g.hx;
+  const double xHi = highEdge ? g.xMax() : g.nodeX(ix.colEnd - 1) - g.hx;
+  const double yLo = g.y0, yHi = g.yMax();
   auto x = particles_.x; auto hs = particles_.halfSize;
   int outside = 0;
   Kokkos::parallel_reduce(
       "check_particles_in_reach", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
       KOKKOS_LAMBDA(int p, int& count) {
-        if (!(x(p, 0) - hs(p, 0) >= xLo && x(p, 0) + hs(p, 0) <= xHi && x(p, 1) - hs(p, 1) >= yLo &&
-              x(p, 1) + hs(p, 1) <= yHi))
-          ++count;
+        const double reachLo = lowEdge ? x(p, 0) : x(p, 0) - hs(p, 0);
+        const double reachHi = highEdge ? x(p, 0) : x(p, 0) + hs(p, 0);
+        if (!(reachLo >= xLo && reachHi <= xHi && x(p, 1) >= yLo && x(p, 1) <= yHi)) ++count;
       },
       outside);
   int total = 0;

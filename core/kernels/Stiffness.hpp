@@ -60,7 +60,7 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
   out.origin = pairs.cell;
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
   auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
-  auto V = ps.volume; auto hs = ps.halfSize; auto matId = ps.material;
+  auto V = ps.volume; auto hs = ps.halfSize; auto matId = ps.material; auto x = ps.x;
   auto K = out.K;
   Kokkos::parallel_for(
       "overlap_stiffness", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
@@ -71,7 +71,11 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
         const double s = 0.5773502691896257;
         const double qx[2] = {0.5 * (a + b) - 0.5 * (b - a) * s, 0.5 * (a + b) + 0.5 * (b - a) * s};
         const double qy[2] = {0.5 * (c + d) - 0.5 * (d - c) * s, 0.5 * (c + d) + 0.5 * (d - c) * s};
-        const double thickness = V(p) / (4.0 * hs(p, 0) * hs(p, 1));
+        // The particle's volume over its domain clipped to the grid (the boxes are clipped too,
+        // as the stencils are; see ParticleStencil::build1d).
+        const double clippedWidth = detail::minOf(x(p, 0) + hs(p, 0), g.xMax()) - detail::maxOf(x(p, 0) - hs(p, 0), g.x0);
+        const double clippedHeight = detail::minOf(x(p, 1) + hs(p, 1), g.yMax()) - detail::maxOf(x(p, 1) - hs(p, 1), g.y0);
+        const double thickness = V(p) / (clippedWidth * clippedHeight);
         const double wq = 0.25 * (b - a) * (d - c) * thickness;
         double D[3][3];
         law.tangent(matId(p), D);
