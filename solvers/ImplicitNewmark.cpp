@@ -23,9 +23,10 @@ namespace {
 namespace st {
 enum : int { Mass = 0, VelX, VelY, AccX, AccY, FextX, FextY, FreeX, FreeY, Count };
 }
-// Columns of the displacement multivector: the step's displacement and the new acceleration.
+// Columns of the displacement multivector: the step's displacement, the new acceleration and
+// the grid's velocity increment dt/2 (a + a_new).
 namespace dp {
-enum : int { UX = 0, UY, AnewX, AnewY, Count };
+enum : int { UX = 0, UY, AnewX, AnewY, DvX, DvY, Count };
 }
 // Columns of the force multivectors: the force on the nodes (internal, plus external for the
 // initial acceleration) and the consistent-mass product M_C u of the residual.
@@ -90,8 +91,10 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
   stateOwned_->doExport(*stateGhosted_, *dist_.importer(), Tpetra::ADD);
 
   // Consistent initial acceleration: a(0) = M^-1 (F_ext(0) + F_int(0)) (F_int as force on nodes).
+  // With Grid Acceleration = Equilibrium the lumped grid takes a(t) that way at every step.
   const bool initialAcceleration = firstStep_ && opt_.consistentInitialAcceleration;
-  if (initialAcceleration) {
+  const bool accelerationFromForces = initialAcceleration || equilibriumAcceleration();
+  if (accelerationFromForces) {
     forceGhosted_->putScalar(0.0);
     {
       auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
@@ -136,7 +139,7 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
           const bool massive = m > cutoff;
           for (int d = 0; d < 2; ++d) {
             s(n, st::VelX + d) = massive ? s(n, st::VelX + d) / m : 0.0;
-            s(n, st::AccX + d) = massive ? (initialAcceleration ? f(n, fc::ForceX + d) / m : s(n, st::AccX + d) / m) : 0.0;
+            s(n, st::AccX + d) = massive ? (accelerationFromForces ? f(n, fc::ForceX + d) / m : s(n, st::AccX + d) / m) : 0.0;
             s(n, st::FreeX + d) = massive ? 1.0 : 0.0;
           }
         });
@@ -410,13 +413,15 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
   {
     auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+    const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_, halfDt = 0.5 * dt_;
     Kokkos::parallel_for(
         "implicit_grid_acceleration", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
-          for (int c = 0; c < 2; ++c)
-            d(n, dp::AnewX + c) = s(n, st::FreeX + c) > 0.5
-                                      ? c1 * d(n, dp::UX + c) - c2 * s(n, st::VelX + c) - s(n, st::AccX + c)
-                                      : 0.0;
+          for (int c = 0; c < 2; ++c) {
+            const bool free = s(n, st::FreeX + c) > 0.5;
+            const double aNew = free ? c1 * d(n, dp::UX + c) - c2 * s(n, st::VelX + c) - s(n, st::AccX + c) : 0.0;
+            d(n, dp::AnewX + c) = aNew;
+            d(n, dp::DvX + c) = free ? halfDt * (s(n, st::AccX + c) + aNew) : 0.0;
+          }
         });
   }
   if (opt_.fixedParticles) {  // the grid's own Newmark update, kept for the next step
@@ -444,17 +449,19 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
     auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
     const double dt = dt_;
     const bool consistent = opt_.consistentMass, fixed = opt_.fixedParticles;
+    const bool gridIncrement = equilibriumAcceleration();
     const double c1 = 4.0 / (dt * dt), c2 = 4.0 / dt;
     Kokkos::parallel_for(
         "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
           const ParticleStencil<Shape> stn(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-          double ux = 0, uy = 0, ax = 0, ay = 0;
+          double ux = 0, uy = 0, ax = 0, ay = 0, dvx = 0, dvy = 0;
           for (int i = 0; i < stn.countX(); ++i)
             for (int j = 0; j < stn.countY(); ++j) {
               const int n = ix(stn.i0 + i, stn.j0 + j);
               const double w = stn.weight(i, j);
               ux += w * d(n, dp::UX); uy += w * d(n, dp::UY);
               ax += w * d(n, dp::AnewX); ay += w * d(n, dp::AnewY);
+              dvx += w * d(n, dp::DvX); dvy += w * d(n, dp::DvY);
             }
           if (consistent) {  // the particle's own Newmark update
             ax = c1 * ux - c2 * v(p, 0) - a(p, 0);
@@ -465,8 +472,13 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
           } else {
             x(p, 0) += ux; x(p, 1) += uy;
           }
-          v(p, 0) += 0.5 * dt * (a(p, 0) + ax);
-          v(p, 1) += 0.5 * dt * (a(p, 1) + ay);
+          if (gridIncrement) {  // the grid's own trapezoidal increment (FLIP)
+            v(p, 0) += dvx;
+            v(p, 1) += dvy;
+          } else {
+            v(p, 0) += 0.5 * dt * (a(p, 0) + ax);
+            v(p, 1) += 0.5 * dt * (a(p, 1) + ay);
+          }
           a(p, 0) = ax; a(p, 1) = ay;
         });
   }

@@ -44,7 +44,15 @@ struct ImplicitOptions {
   // GIMP's preconditioner / assembled Jacobian: the seed's stiffness integrated over particle
   // domains (true), or V_p B^T D B with the averaged gradients, the exact derivative of the
   // GIMP internal force (false).
-  bool seedGimpStiffness = true;
+  bool seedGimpStiffness = false;
+  // Lumped mass, moving particles: the grid acceleration at the start of a step from the forces,
+  // a_i = (F_ext + F_int)_i / m_i, and the particles' velocity from the grid's trapezoidal
+  // increment dt/2 (a_i + a_i,new) (true, "Equilibrium"); or a_i projected from the particles'
+  // accelerations and v_p += dt/2 (a_p + a_p,new) (false, "Projected": Guilkey & Weiss 2003).
+  // The projected acceleration is not the one the forces give, and the trapezoidal rule keeps
+  // such an error alive: at omega dt >> 1 it grows each step (stress 11 times the static value
+  // after 40 steps of a step-loaded block; test_patch).
+  bool equilibriumAcceleration = true;
   // Finite-element reference mode: the particles are Gauss points and do not move; the grid
   // carries the velocity and acceleration from step to step (no projection from particles).
   bool fixedParticles = false;
@@ -89,6 +97,9 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void finishStep(const Vector& u);      // grid and particle update with the converged u
   void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
   void correctProjection();              // consistent-mass correction of v and a on the grid
+  bool equilibriumAcceleration() const {
+    return opt_.equilibriumAcceleration && !opt_.consistentMass && !opt_.fixedParticles;
+  }
 
   ParticleSet& ps_;
   const GridDistribution& dist_;

@@ -368,6 +368,7 @@ void Simulation::buildIntegrator() {
     iopt.preconditionerRefreshInterval = im.get<int>("Preconditioner Refresh Interval");
     iopt.consistentMass = im.get<std::string>("Mass Matrix") == "Consistent";
     iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
+    iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
     iopt.fixedParticles = fe;
     if (iopt.preconditionerRefreshInterval < 1)
       throw DeckError("'Integrator/Implicit/Preconditioner Refresh Interval' must be at least 1");

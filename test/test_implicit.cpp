@@ -99,11 +99,12 @@ TEUCHOS_UNIT_TEST(Implicit, MpmJacobianFreeProductMatchesAssembled) {
 // the seed's integrated stiffness is not (the average of a product is not the product of
 // averages): measured 2e-2 here (random v), where a particle box is a third of a cell.
 TEUCHOS_UNIT_TEST(Implicit, GimpConsistentStiffnessIsTheJacobian) {
-  ImplicitOptions consistent;
-  consistent.seedGimpStiffness = false;
+  ImplicitOptions consistent;  // the default
   TEST_COMPARE(jacobianMismatch<UniformGimp>(2, consistent, Placement::Lattice, out), <, 1e-5);
   TEST_COMPARE(jacobianMismatch<UniformGimp>(1, consistent, Placement::Lattice, out), <, 1e-5);
-  TEST_COMPARE(jacobianMismatch<UniformGimp>(2, ImplicitOptions(), Placement::Lattice, out), >, 1e-3);
+  ImplicitOptions integrated;
+  integrated.seedGimpStiffness = true;
+  TEST_COMPARE(jacobianMismatch<UniformGimp>(2, integrated, Placement::Lattice, out), >, 1e-3);
 }
 
 // FE Q9 with the consistent mass: P holds stiffness and consistent mass over the elements.
@@ -119,7 +120,8 @@ TEUCHOS_UNIT_TEST(Implicit, FeQ9AssembledIsTheJacobian) {
 // kinetic plus strain energy: measured 5e-7 (the particles move, so not round-off), bound 1e-6.
 // With the lumped mass (Guilkey & Weiss) every step re-maps the particle velocity to the grid
 // with M_L^-1 S^T M_p, so the grid does not start each step where Newmark left it: measured
-// drift 1.16e-5, independent of the amplitude; the bound 2e-5 guards that figure.
+// drift 1.24e-5 (1.16e-5 with the projected acceleration), independent of the amplitude; the
+// bound 2e-5 guards that figure.
 TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
   auto comm = Tpetra::getDefaultComm();
   for (const std::string method : {"MPM", "GIMP"}) for (bool consistentMass : {false, true}) {
