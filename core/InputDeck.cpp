@@ -230,8 +230,9 @@ RCP<const ParameterList> validParameters() {
           "0 = the classic lumped projection p/m, which smooths the velocity field by M_L^-1 M_C every step "
           "and about triples the lumped-mass wave dispersion; 1 removes that to O((kh)^4)");
     number(e, "Stability Factor", 1.0,
-           "dt must not exceed this factor times 1 / (P-wave speed sqrt(1/hx^2 + 1/hy^2)), the critical step of "
-           "lumped bilinear cells");
+           "dt must not exceed this factor times 0.7 / (P-wave speed sqrt(1/hx^2 + 1/hy^2)): the critical step of "
+           "lumped bilinear cells, times the smallest critical fraction measured over every transfer scheme "
+           "(apps/stability_study.py) with a margin; above 1 a warning (the run may diverge)");
     ParameterList& im = p.sublist("Implicit", false, "implicit integrator options");
     im.set("Maximum Step Halvings", 4, "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
     im.set("Consistent Projection Iterations", 0,

@@ -18,6 +18,15 @@ namespace impm {
 
 enum class ExplicitScheme { USF, USL, MUSL };
 
+// The explicit step impm accepts: Stability Factor (<= 1) x kTransferStabilityFraction x the
+// critical step of lumped bilinear cells, 1 / (c_p sqrt(1/hx^2 + 1/hy^2)). The particle
+// transfers and the projection correction lower the real limit below the cells' own (which is
+// 1.09-1.12 times that formula): measured by apps/stability_study.py over every scheme impm
+// offers (USF, USL, MUSL; 0 or 1 projection iterations; 1, 2, 4 particles per cell; 2:1 and
+// square cells) the smallest critical fraction is 0.775 (USL, 1 particle per cell, 2:1 cells; doc/stability.md);
+// 0.7 keeps a 10% margin below it. (USF and MUSL were stable past 1.47.)
+constexpr double kTransferStabilityFraction = 0.7;
+
 struct ExplicitOptions {
   ExplicitScheme scheme = ExplicitScheme::USL;
   double flip = 1.0;             // 1 = pure FLIP, 0 = pure PIC
