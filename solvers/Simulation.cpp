@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "core/Collective.hpp"
 #include "core/InputDeck.hpp"
 #include "core/ParticleMigration.hpp"
 #include "core/output/VtkWriter.hpp"
@@ -60,8 +61,12 @@ RunResult Simulation::run(std::ostream& log) {
   const int vtkInterval = out.get<int>("VTK Interval");
   const bool progress = out.get<bool>("Progress");
 
-  if (rank == 0) fs::create_directories(outputDir_);
-  comm_->barrier();
+  // Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.
+  rethrowOnEveryRank(*comm_, rank == 0, [&] {
+    std::error_code ec;
+    fs::create_directories(outputDir_, ec);
+    if (ec) throw DeckError(outputKey_ + " = '" + outputDir_ + "' cannot be created: " + ec.message());
+  });
 
   RunResult r;
   const long long localCount = particles_.count;
@@ -69,16 +74,19 @@ RunResult Simulation::run(std::ostream& log) {
   r.steps = steps_;
 
   History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_);
-  history.open(outputDir_ + "/history.csv");
+  rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv"); });
 
   PvdIndex pvd(outputDir_ + "/particles.pvd", comm_->getSize());
   int vtkCount = 0;
   auto writeVtk = [&](double t) {
     char stem[64];
     std::snprintf(stem, sizeof stem, "particles_%05d", vtkCount++);
-    writeParticlesVtu(outputDir_ + "/" + PvdIndex::pieceName(stem, rank), particles_);
-    comm_->barrier();
-    if (rank == 0) pvd.add(t, stem);
+    // Each rank writes its piece, then rank 0 the index; a failure on any rank ends them all.
+    rethrowOnEveryRank(*comm_, true, [&] { writeParticlesVtu(outputDir_ + "/" + PvdIndex::pieceName(stem, rank), particles_); });
+    rethrowOnEveryRank(*comm_, rank == 0, [&] { pvd.add(t, stem); });
+  };
+  auto writeSummaryOnRoot = [&](const RunResult& result) {
+    rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
   };
 
   history.record(0.0, r);
@@ -99,7 +107,7 @@ RunResult Simulation::run(std::ostream& log) {
       r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
       r.steps = n;
       r.status = std::string("stopped: ") + e.what();
-      if (rank == 0) writeSummary(r);
+      writeSummaryOnRoot(r);
       throw std::runtime_error(std::string(e.what()) + "; the last converged state (t = " + formatNumber(t) +
                                " s) is in " + outputDir_);
     }
@@ -131,8 +139,8 @@ RunResult Simulation::run(std::ostream& log) {
   writeVtk(steps_ * dt_);
   history.close();
   history.finish(r);
+  writeSummaryOnRoot(r);
   if (rank == 0) {
-    writeSummary(r);
     log << deck_.sublist("Problem").get<std::string>("Name") << ": " << integrator_->name() << ", "
         << materials_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in " << std::setprecision(3)
         << r.wallSeconds << " s (" << r.particleStepsPerSecond / 1e6 << " M particle-steps/s)\n";

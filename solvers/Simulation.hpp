@@ -59,6 +59,7 @@ class Simulation {
   Teuchos::ParameterList deck_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   std::string outputDir_;
+  std::string outputKey_;  // where outputDir_ comes from, for messages
   StructuredGrid grid_;
   double thickness_ = 1;
   LinearElastic materials_;

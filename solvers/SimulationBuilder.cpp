@@ -5,13 +5,20 @@
 
 #include <Teuchos_CommHelpers.hpp>
 
+#include <stdlib.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 #include <tuple>
 
+#include "core/Collective.hpp"
 #include "core/InputDeck.hpp"
 #include "physics/InitialConditions.hpp"
 #include "solvers/ExplicitStepper.hpp"
@@ -35,6 +42,33 @@ int positiveInt(const ParameterList& pl, const std::string& section, const std::
   return v;
 }
 
+// The output directory can be created and written: it is a directory, or its nearest existing
+// ancestor is one, in which a probe directory can be made (and is removed at once, so that a
+// deck that fails later leaves nothing behind). A real probe, not access(): root passes
+// access() on /proc and on read-only mounts. `key` names where the path came from.
+void checkOutputDirectory(const std::string& dir, const std::string& key) {
+  namespace fs = std::filesystem;
+  const std::string what = key + " = '" + dir + "'";
+  std::error_code ec;
+  const fs::path target = fs::absolute(dir, ec).lexically_normal();
+  if (ec) throw DeckError(what + ": " + ec.message());
+  fs::path existing = target;
+  fs::file_status status = fs::status(existing, ec);
+  while (status.type() == fs::file_type::not_found && existing.has_relative_path()) {
+    existing = existing.parent_path();
+    status = fs::status(existing, ec);
+  }
+  if (!fs::is_directory(status)) {
+    if (existing == target) throw DeckError(what + " exists and is not a directory");
+    throw DeckError(what + " cannot be created: '" + existing.string() + "' is not a directory");
+  }
+  std::string probe = (existing / ".impm-write-test-XXXXXX").string();
+  if (!mkdtemp(probe.data()))
+    throw DeckError(what + (existing == target ? " is not writable" : " cannot be created") + ": no directory can be made in '" +
+                    existing.string() + "' (" + std::strerror(errno) + ")");
+  rmdir(probe.c_str());
+}
+
 // True when x is on a grid line x0 + k h (to round-off).
 bool onGridLine(double x, double x0, double h) {
   const double k = (x - x0) / h;
@@ -55,7 +89,10 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     : deck_(deck), comm_(comm) {
   const ParameterList& problem = deck_.sublist("Problem");
   outputDir_ = outputOverride.empty() ? problem.get<std::string>("Output Directory") : outputOverride;
-  if (outputDir_.empty()) throw DeckError("'Problem/Output Directory' must not be empty");
+  outputKey_ = outputOverride.empty() ? "'Problem/Output Directory'" : "--output";
+  if (outputDir_.empty()) throw DeckError(outputKey_ + " must not be empty");
+  // Before any work, on rank 0 (which creates it), the verdict shared by every rank.
+  rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] { checkOutputDirectory(outputDir_, outputKey_); });
 
   const ParameterList& g = deck_.sublist("Grid");
   grid_.x0 = g.get<double>("Origin X");
