@@ -55,6 +55,13 @@ class Simulation {
   void nearestParticle(double px, double py, Monitor& m) const;
   const BodySpec& bodyNamed(const std::string& key, const std::string& name) const;
   void checkGridNode(const std::string& where, double x, double y) const;
+  // Deck errors found before anything is allocated or run: a grid or particle count beyond the
+  // indices, or an estimated memory above the machine's (or Problem/Memory Limit GB).
+  void checkProblemSize(bool implicit) const;
+  // A Node Force on a grid node that no particle reaches at t = 0 (it would act on no mass).
+  void checkNodeReached(const std::string& loadKey, double x, double y) const;
+  // A point (Particle Force, monitor) farther than one cell diagonal from its nearest particle.
+  void checkNearParticle(const std::string& what, double x, double y, const Monitor& nearest) const;
 
   Teuchos::ParameterList deck_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
@@ -65,6 +72,7 @@ class Simulation {
   LinearElastic materials_;
   std::vector<std::string> materialNames_;
   std::vector<BodySpec> bodies_;
+  std::vector<double> estimatedBodyParticles_, estimatedBodyCells_;  // per body, for checkProblemSize
   std::string shape_;  // Method/Shape Function
   Placement placement_ = Placement::Lattice;
   std::unique_ptr<GridDistribution> dist_;

@@ -97,3 +97,24 @@ expect_failure(output_in_proc "Name:" "Name:" "'Problem/Output Directory' = '/pr
                NP 2 OUTPUT /proc/impm_out)
 expect_failure(output_under_file "Name:" "Name:" "'${WORK}/a_file' is not a directory" NP 2 OUTPUT "${WORK}/a_file/out")
 expect_failure(output_is_file "Name:" "Name:" "exists and is not a directory" OUTPUT "${WORK}/a_file")
+# A Node Force on a node no particle reaches (between the disks' corners) would act on nothing.
+set(good "${good_disks}")
+expect_failure(void_node_force "  Monitors:" "  Loads:\n    corner push:\n      Type: Node Force\n      X: 0.95\n      Y: 0.05\n      Force X: 1.0\n  Monitors:"
+               "'Loads/corner push/Type' = Node Force at (0.95, 0.05): no particle reaches this grid node" NP 2)
+# A Particle Force or a monitor far from every body (the nearest particle is over all ranks).
+set(good "${good_bar}")
+expect_failure(far_particle_force "  Loads:" "  Loads:\n    far push:\n      Type: Particle Force\n      X: 99\n      Y: 99\n      Force X: 1.0"
+               "'Loads/far push/Type' = Particle Force at (99, 99): the nearest particle, at (0.0299, 0.00045), is 139.986 m away" NP 2)
+expect_failure(far_monitor "  Monitors:" "  Monitors:\n    far:\n      Quantity: Velocity X\n      X: 99\n      Y: 99"
+               "'Monitors/far' at (99, 99): the nearest particle, at (0.0299, 0.00045), is 139.986 m away")
+# Sizes beyond the indices, or beyond the memory (the machine's, or Problem/Memory Limit GB).
+expect_failure(huge_grid "Cells X: 30" "Cells X: 2000000000" "'Grid/Cells X' x 'Grid/Cells Y' = 2000000000 x 1 makes 4e+09 grid nodes")
+set(ppc "Particles Per Cell X: 5\n    Particles Per Cell Y: 5")
+expect_failure(particle_count_overflow "${ppc}" "Particles Per Cell X: 50000\n    Particles Per Cell Y: 50000"
+               "the bodies make an estimated 7.5e+10 particles ('Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 50000 x 50000), more than the 2147483647")
+# 1.9e9 particles, ~570 GB: more than any test machine has.
+expect_failure(out_of_memory "${ppc}" "Particles Per Cell X: 8000\n    Particles Per Cell Y: 8000"
+               "the run needs an estimated 568.37 GB")
+string(REPLACE "  Grid:" "    Memory Limit GB: 1\n  Grid:" good "${good_bar}")
+expect_failure(memory_limit "${ppc}" "Particles Per Cell X: 500\n    Particles Per Cell Y: 500"
+               "'Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 500 x 500), more than 'Problem/Memory Limit GB' = 1" NP 2)
