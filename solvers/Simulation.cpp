@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -51,6 +52,42 @@ void Simulation::checkParticlesInReach(double t) const {
   if (total > 0)
     throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the columns their MPI rank maps at t = " +
                              formatNumber(t) + " s (use a larger grid)");
+}
+
+double Simulation::divergenceMeasure() const {
+  // Non-finite values count as infinitely large; |stress| / c11 is the size of the strain.
+  auto v = particles_.v;
+  auto stress = particles_.stress;
+  auto material = particles_.material;
+  const LinearElasticLaw law = materials_.law();
+  double local = 0.0;
+  Kokkos::parallel_reduce(
+      "divergence_guard", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
+      KOKKOS_LAMBDA(int p, double& worst) {
+        double sum = v(p, 0) + v(p, 1), largest = 0.0;
+        for (int i = 0; i < 4; ++i) {
+          sum += stress(p, i);
+          largest = std::fmax(largest, std::fabs(stress(p, i)));
+        }
+        // NaN and Inf propagate into the sum; NaN fails every comparison, so test finiteness.
+        const double measure = std::isfinite(sum) ? largest / law.table(material(p), LinearElasticLaw::C11) : HUGE_VAL;
+        worst = measure > worst ? measure : worst;
+      },
+      Kokkos::Max<double>(local));
+  double global = 0.0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
+  return global;
+}
+
+std::string Simulation::timeStepAdvice() const {
+  const std::string step = "'Integrator/Time Step' = " + formatNumber(dt_) + " s";
+  if (criticalStep_ <= 0) return "reduce " + step;
+  if (dt_ > criticalStep_)
+    return "reduce " + step + ": it is " + formatNumber(dt_ / criticalStep_) + " times the critical step " +
+           formatNumber(criticalStep_) + " s of these cells, allowed by 'Integrator/Explicit/Stability Factor' = " +
+           formatNumber(deck_.sublist("Integrator").sublist("Explicit").get<double>("Stability Factor")) +
+           " (keep it at most 1)";
+  return "reduce " + step + " (the critical step of these cells is " + formatNumber(criticalStep_) + " s)";
 }
 
 RunResult Simulation::run(std::ostream& log) {
@@ -112,6 +149,28 @@ RunResult Simulation::run(std::ostream& log) {
                                " s) is in " + outputDir_);
     }
     const double tNew = (n + 1) * dt_;
+    // Before migration and the reach check: a diverging run throws particles off the grid, and
+    // that message would hide the cause. One reduction per step: an unstable explicit step
+    // grows ~300x per step, leaving the grid within a few steps.
+    const double divergence = divergenceMeasure();
+    if (divergence > kDivergedStrain) {
+      // The state of step n + 1 is bad: history.csv and summary.yaml end at step n (and the VTU
+      // files written so far are of good states).
+      history.close();
+      r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
+      r.steps = n;
+      r.status = "diverged";
+      r.divergedStep = n + 1;
+      r.divergedTime = tNew;
+      r.divergence = std::isinf(divergence)
+                         ? std::string("a particle velocity or stress is not finite")
+                         : "a particle stress is " + formatNumber(divergence) +
+                               " times its material's P-wave modulus (a strain of order one)";
+      writeSummaryOnRoot(r);
+      throw std::runtime_error("the run diverged at step " + std::to_string(n + 1) + " (t = " + formatNumber(tNew) +
+                               " s): " + r.divergence + "; " + timeStepAdvice() + "; history.csv and summary.yaml up to step " +
+                               std::to_string(n) + " are in " + outputDir_);
+    }
     if (migrateParticles(particles_, *dist_) > 0) {
       // Local indices changed: find the monitored and loaded particles by global id.
       loads_.locateParticles(particles_);

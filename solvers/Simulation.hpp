@@ -50,6 +50,13 @@ class Simulation {
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
   void checkParticlesInReach(double t) const;
+  // Over all ranks, the largest |stress| / c11 of a particle (its strain), +inf when a
+  // particle's velocity or stress is not finite. One reduction.
+  double divergenceMeasure() const;
+  // Above this the run has diverged: small-strain elasticity never reaches a strain of one.
+  static constexpr double kDivergedStrain = 1.0;
+  // What to change when the run diverged (the time step, with the explicit critical step).
+  std::string timeStepAdvice() const;
   void writeSummary(const RunResult& r) const;
   // The particle nearest (px, py) at t = 0 over all ranks.
   void nearestParticle(double px, double py, Monitor& m) const;
@@ -83,6 +90,7 @@ class Simulation {
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<ExactReference> exact_;
   double dt_ = 0;
+  double criticalStep_ = 0;  // explicit: 1 / (c_p sqrt(1/hx^2 + 1/hy^2)); 0 for implicit runs
   int steps_ = 0;
   bool energyHistory_ = false;
 };

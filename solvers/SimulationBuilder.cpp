@@ -502,7 +502,9 @@ void Simulation::buildIntegrator() {
     // 1 / (c_p sqrt(1/hx^2 + 1/hy^2)); h_min / c_p overestimates it (by 12% on the beam's 2:1
     // cells, where 0.9 h_min / c_p was measured to blow up). c_p: the fastest material's.
     const double cp = materials_.maxPWaveSpeed();
-    const double limit = factor / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
+    const double critical = 1.0 / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
+    const double limit = factor * critical;
+    if (integratorType == "Explicit") criticalStep_ = critical;
     if (integratorType == "Explicit" && dt_ > limit)
       throw DeckError("'Integrator/Time Step' = " + formatNumber(dt_) + " exceeds the explicit stable limit " + formatNumber(limit) +
                       " (Stability Factor / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed " + formatNumber(cp) + " m/s)");

@@ -5,6 +5,7 @@
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 file(READ "${SRC}/../apps/bar_explicit_mpm_plane_stress.yaml" good_bar)
+file(READ "${SRC}/../apps/bar_explicit_mpm_plane_strain.yaml" good_bar_strain)
 file(READ "${SRC}/../apps/colliding_disks_explicit_mpm.yaml" good_disks)
 set(good "${good_bar}")
 
@@ -118,3 +119,29 @@ expect_failure(out_of_memory "${ppc}" "Particles Per Cell X: 8000\n    Particles
 string(REPLACE "  Grid:" "    Memory Limit GB: 1\n  Grid:" good "${good_bar}")
 expect_failure(memory_limit "${ppc}" "Particles Per Cell X: 500\n    Particles Per Cell Y: 500"
                "'Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 500 x 500), more than 'Problem/Memory Limit GB' = 1" NP 2)
+
+# A diverging explicit run (dt 2.6 times the critical step, allowed by Stability Factor 3): exit
+# 1 with a message that says so (not "particles left the grid"), summary.yaml Status: diverged,
+# history.csv up to the last good step. At np 2 as well: every rank stops.
+foreach(np 1 2)
+  set(good "${good_bar_strain}")
+  string(REPLACE "Time Step: 1.0e-8" "Time Step: 2.0e-7" deck "${good}")
+  string(REPLACE "Number of Steps: 10000" "Number of Steps: 100" deck "${deck}")
+  string(REPLACE "      Consistent Projection Iterations: 1" "      Consistent Projection Iterations: 1\n      Stability Factor: 3" deck "${deck}")
+  string(REPLACE "History Interval: 10" "History Interval: 1" deck "${deck}")
+  string(REPLACE "Plot: true" "Plot: false" deck "${deck}")
+  set(output "${WORK}/out_diverged_np${np}")
+  run_and_check(diverged_np${np} "${deck}" "${output}" ${np} 1 "the run diverged at step 5 (t = 1e-06 s)")
+  file(READ "${output}/summary.yaml" summary)
+  foreach(expected "Status: diverged" "Steps: 4" "Step: 5")
+    string(FIND "${summary}" "${expected}" found)
+    if(found EQUAL -1)
+      message(FATAL_ERROR "diverged_np${np}: summary.yaml lacks '${expected}': ${summary}")
+    endif()
+  endforeach()
+  file(STRINGS "${output}/history.csv" rows)
+  list(LENGTH rows nrows)
+  if(NOT nrows EQUAL 6)  # the header and steps 0 to 4
+    message(FATAL_ERROR "diverged_np${np}: history.csv has ${nrows} lines, expected 6 (header, steps 0 to 4)")
+  endif()
+endforeach()
