@@ -15,6 +15,10 @@
 //                       run, and the totals in summary.yaml (Timers)
 //   --help              usage and every valid parameter with its documentation
 //   --print-defaults    every valid parameter with its default, as YAML
+//
+// Exit status: 0 completed; 2 the deck, the command line or a path they name is wrong (nothing
+// written); 1 the run failed (diverged, Newton not converged, an output not written). Every MPI
+// rank exits with the same status; rank 0 prints the one-line message.
 #include <Tpetra_Core.hpp>
 
 #include <cstdlib>
@@ -97,6 +101,9 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::exception& e) {
     if (root) std::cerr << "impm: error: " << e.what() << "\n";
+    return 1;
+  } catch (...) {
+    if (root) std::cerr << "impm: error: unknown exception\n";
     return 1;
   }
   return 0;

@@ -191,6 +191,9 @@ RCP<const ParameterList> validParameters() {
     ParameterList& p = valid->sublist("Problem", false, "what is run and where its outputs go");
     p.set("Name", "impm run", "a name for the run, copied to summary.yaml");
     p.set("Output Directory", "impm-output", "directory for history.csv, summary.yaml, VTU/PVD and plot.png");
+    number(p, "Memory Limit GB", 0.0,
+           "a deck whose estimated memory (grid and particles, over all ranks) exceeds this is rejected before "
+           "anything is allocated; 0: the MemAvailable of the machine rank 0 runs on (/proc/meminfo)");
   }
   {
     ParameterList& p = valid->sublist("Grid", false, "structured background grid");

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <stdexcept>
 
 #include "core/kernels/Energy.hpp"
 
@@ -22,6 +23,7 @@ History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, c
 void History::open(const std::string& path) {
   if (comm_->getRank() != 0) return;
   csv_.open(path);
+  if (!csv_) throw std::runtime_error("cannot write " + path);
   csv_ << "time";
   for (size_t k = 0; k < monitors_.size(); ++k) {
     csv_ << ',' << monitors_[k].name;

@@ -32,7 +32,10 @@ struct RunResult {
   long long particles = 0;
   int steps = 0;
   double particleStepsPerSecond = 0;
-  std::string status = "completed";
+  std::string status = "completed";  // or "diverged", or "stopped: <why>"
+  int divergedStep = -1;              // when diverged: the first bad step, its time and why
+  double divergedTime = 0;
+  std::string divergence;
   std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history
   std::vector<double> time;                  // the recorded history
   std::map<std::string, std::vector<double>> computed, exact;

@@ -7,11 +7,13 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
 
+#include "core/Collective.hpp"
 #include "core/InputDeck.hpp"
 #include "core/ParticleMigration.hpp"
 #include "core/output/VtkWriter.hpp"
@@ -54,6 +56,42 @@ void Simulation::checkParticlesInReach(double t) const {
                              formatNumber(t) + " s (use a larger grid)");
 }
 
+double Simulation::divergenceMeasure() const {
+  // Non-finite values count as infinitely large; |stress| / c11 is the size of the strain.
+  auto v = particles_.v;
+  auto stress = particles_.stress;
+  auto material = particles_.material;
+  const LinearElasticLaw law = materials_.law();
+  double local = 0.0;
+  Kokkos::parallel_reduce(
+      "divergence_guard", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
+      KOKKOS_LAMBDA(int p, double& worst) {
+        double sum = v(p, 0) + v(p, 1), largest = 0.0;
+        for (int i = 0; i < 4; ++i) {
+          sum += stress(p, i);
+          largest = std::fmax(largest, std::fabs(stress(p, i)));
+        }
+        // NaN and Inf propagate into the sum; NaN fails every comparison, so test finiteness.
+        const double measure = std::isfinite(sum) ? largest / law.table(material(p), LinearElasticLaw::C11) : HUGE_VAL;
+        worst = measure > worst ? measure : worst;
+      },
+      Kokkos::Max<double>(local));
+  double global = 0.0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
+  return global;
+}
+
+std::string Simulation::timeStepAdvice() const {
+  const std::string step = "'Integrator/Time Step' = " + formatNumber(dt_) + " s";
+  if (criticalStep_ <= 0) return "reduce " + step;
+  if (dt_ > criticalStep_)
+    return "reduce " + step + ": it is " + formatNumber(dt_ / criticalStep_) + " times the stable step " +
+           formatNumber(criticalStep_) + " s of these cells and particles, allowed by 'Integrator/Explicit/Stability Factor' = " +
+           formatNumber(deck_.sublist("Integrator").sublist("Explicit").get<double>("Stability Factor")) +
+           " (keep it at most 1)";
+  return "reduce " + step + " (the stable step of these cells and particles is " + formatNumber(criticalStep_) + " s)";
+}
+
 RunResult Simulation::run(std::ostream& log) {
   namespace fs = std::filesystem;
   const int rank = comm_->getRank();
@@ -62,8 +100,12 @@ RunResult Simulation::run(std::ostream& log) {
   const int vtkInterval = out.get<int>("VTK Interval");
   const bool progress = out.get<bool>("Progress");
 
-  if (rank == 0) fs::create_directories(outputDir_);
-  comm_->barrier();
+  // Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.
+  rethrowOnEveryRank(*comm_, rank == 0, [&] {
+    std::error_code ec;
+    fs::create_directories(outputDir_, ec);
+    if (ec) throw DeckError(outputKey_ + " = '" + outputDir_ + "' cannot be created: " + ec.message());
+  });
 
   RunResult r;
   const long long localCount = particles_.count;
@@ -71,16 +113,19 @@ RunResult Simulation::run(std::ostream& log) {
   r.steps = steps_;
 
   History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_);
-  history.open(outputDir_ + "/history.csv");
+  rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv"); });
 
   PvdIndex pvd(outputDir_ + "/particles.pvd", comm_->getSize());
   int vtkCount = 0;
   auto writeVtk = [&](double t) {
     char stem[64];
     std::snprintf(stem, sizeof stem, "particles_%05d", vtkCount++);
-    writeParticlesVtu(outputDir_ + "/" + PvdIndex::pieceName(stem, rank), particles_);
-    comm_->barrier();
-    if (rank == 0) pvd.add(t, stem);
+    // Each rank writes its piece, then rank 0 the index; a failure on any rank ends them all.
+    rethrowOnEveryRank(*comm_, true, [&] { writeParticlesVtu(outputDir_ + "/" + PvdIndex::pieceName(stem, rank), particles_); });
+    rethrowOnEveryRank(*comm_, rank == 0, [&] { pvd.add(t, stem); });
+  };
+  auto writeSummaryOnRoot = [&](const RunResult& result) {
+    rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
   };
 
   history.record(0.0, r);
@@ -101,11 +146,33 @@ RunResult Simulation::run(std::ostream& log) {
       r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
       r.steps = n;
       r.status = std::string("stopped: ") + e.what();
-      if (rank == 0) writeSummary(r);
+      writeSummaryOnRoot(r);
       throw std::runtime_error(std::string(e.what()) + "; the last converged state (t = " + formatNumber(t) +
                                " s) is in " + outputDir_);
     }
     const double tNew = (n + 1) * dt_;
+    // Before migration and the reach check: a diverging run throws particles off the grid, and
+    // that message would hide the cause. One reduction per step: an unstable explicit step
+    // grows ~300x per step, leaving the grid within a few steps.
+    const double divergence = divergenceMeasure();
+    if (divergence > kDivergedStrain) {
+      // The state of step n + 1 is bad: history.csv and summary.yaml end at step n (and the VTU
+      // files written so far are of good states).
+      history.close();
+      r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
+      r.steps = n;
+      r.status = "diverged";
+      r.divergedStep = n + 1;
+      r.divergedTime = tNew;
+      r.divergence = std::isinf(divergence)
+                         ? std::string("a particle velocity or stress is not finite")
+                         : "a particle stress is " + formatNumber(divergence) +
+                               " times its material's P-wave modulus (a strain of order one)";
+      writeSummaryOnRoot(r);
+      throw std::runtime_error("the run diverged at step " + std::to_string(n + 1) + " (t = " + formatNumber(tNew) +
+                               " s): " + r.divergence + "; " + timeStepAdvice() + "; history.csv and summary.yaml up to step " +
+                               std::to_string(n) + " are in " + outputDir_);
+    }
     if (migrateParticles(particles_, *dist_) > 0) {
       // Local indices changed: find the monitored and loaded particles by global id.
       loads_.locateParticles(particles_);
@@ -133,8 +200,8 @@ RunResult Simulation::run(std::ostream& log) {
   writeVtk(steps_ * dt_);
   history.close();
   history.finish(r);
+  writeSummaryOnRoot(r);
   if (rank == 0) {
-    writeSummary(r);
     log << deck_.sublist("Problem").get<std::string>("Name") << ": " << integrator_->name() << ", "
         << materials_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in " << std::setprecision(3)
         << r.wallSeconds << " s (" << r.particleStepsPerSecond / 1e6 << " M particle-steps/s)\n";

@@ -50,20 +50,36 @@ class Simulation {
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
   void checkParticlesInReach(double t) const;
+  // Over all ranks, the largest |stress| / c11 of a particle (its strain), +inf when a
+  // particle's velocity or stress is not finite. One reduction.
+  double divergenceMeasure() const;
+  // Above this the run has diverged: small-strain elasticity never reaches a strain of one.
+  static constexpr double kDivergedStrain = 1.0;
+  // What to change when the run diverged (the time step, with the explicit critical step).
+  std::string timeStepAdvice() const;
   void writeSummary(const RunResult& r) const;
   // The particle nearest (px, py) at t = 0 over all ranks.
   void nearestParticle(double px, double py, Monitor& m) const;
   const BodySpec& bodyNamed(const std::string& key, const std::string& name) const;
   void checkGridNode(const std::string& where, double x, double y) const;
+  // Deck errors found before anything is allocated or run: a grid or particle count beyond the
+  // indices, or an estimated memory above the machine's (or Problem/Memory Limit GB).
+  void checkProblemSize(bool implicit) const;
+  // A Node Force on a grid node that no particle reaches at t = 0 (it would act on no mass).
+  void checkNodeReached(const std::string& loadKey, double x, double y) const;
+  // A point (Particle Force, monitor) farther than one cell diagonal from its nearest particle.
+  void checkNearParticle(const std::string& what, double x, double y, const Monitor& nearest) const;
 
   Teuchos::ParameterList deck_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   std::string outputDir_;
+  std::string outputKey_;  // where outputDir_ comes from, for messages
   StructuredGrid grid_;
   double thickness_ = 1;
   LinearElastic materials_;
   std::vector<std::string> materialNames_;
   std::vector<BodySpec> bodies_;
+  std::vector<double> estimatedBodyParticles_, estimatedBodyCells_;  // per body, for checkProblemSize
   std::string shape_;  // Method/Shape Function
   Placement placement_ = Placement::Lattice;
   std::unique_ptr<GridDistribution> dist_;
@@ -74,6 +90,7 @@ class Simulation {
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<ExactReference> exact_;
   double dt_ = 0;
+  double criticalStep_ = 0;  // explicit: 0.7 / (c_p sqrt(1/hx^2 + 1/hy^2)) (Stability Factor 1); 0 for implicit runs
   int steps_ = 0;
   bool energyHistory_ = false;
 };

@@ -5,14 +5,22 @@
 
 #include <Teuchos_CommHelpers.hpp>
 
+#include <stdlib.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 #include <tuple>
 
+#include "core/Collective.hpp"
 #include "core/InputDeck.hpp"
 #include "physics/InitialConditions.hpp"
 #include "solvers/ExplicitStepper.hpp"
@@ -36,6 +44,57 @@ int positiveInt(const ParameterList& pl, const std::string& section, const std::
   return v;
 }
 
+// The output directory can be created and written: it is a directory, or its nearest existing
+// ancestor is one, in which a probe directory can be made (and is removed at once, so that a
+// deck that fails later leaves nothing behind). A real probe, not access(): root passes
+// access() on /proc and on read-only mounts. `key` names where the path came from.
+void checkOutputDirectory(const std::string& dir, const std::string& key) {
+  namespace fs = std::filesystem;
+  const std::string what = key + " = '" + dir + "'";
+  std::error_code ec;
+  const fs::path target = fs::absolute(dir, ec).lexically_normal();
+  if (ec) throw DeckError(what + ": " + ec.message());
+  fs::path existing = target;
+  fs::file_status status = fs::status(existing, ec);
+  while (status.type() == fs::file_type::not_found && existing.has_relative_path()) {
+    existing = existing.parent_path();
+    status = fs::status(existing, ec);
+  }
+  if (!fs::is_directory(status)) {
+    if (existing == target) throw DeckError(what + " exists and is not a directory");
+    throw DeckError(what + " cannot be created: '" + existing.string() + "' is not a directory");
+  }
+  std::string probe = (existing / ".impm-write-test-XXXXXX").string();
+  if (!mkdtemp(probe.data()))
+    throw DeckError(what + (existing == target ? " is not writable" : " cannot be created") + ": no directory can be made in '" +
+                    existing.string() + "' (" + std::strerror(errno) + ")");
+  rmdir(probe.c_str());
+}
+
+// A grid of nx x ny cells and nodes per rank must fit impm's 32-bit local indices with two
+// unknowns per node (Tpetra's LO is int).
+constexpr long long kMaxGridNodes = std::numeric_limits<int>::max() / 2;
+
+// Memory measured with /usr/bin/time (maximum resident set, OMP_NUM_THREADS=1, 2026-11): a
+// rank's libraries and runtimes; per grid node, explicit (the Tpetra fields and maps) and
+// implicit (plus matrix, preconditioner and Krylov space, for nodes the bodies cover); per
+// particle, the views plus, on every rank, the fill of all bodies over the whole grid that
+// numbers the particles independently of the decomposition.
+constexpr double kBytesPerRank = 50e6;
+constexpr double kBytesPerNodeExplicit = 320, kBytesPerNodeImplicitVoid = 450, kBytesPerNodeImplicitActive = 5000;
+constexpr double kFillBytesPerParticlePerRank = 80;
+
+// MemAvailable of /proc/meminfo in bytes (0 when unknown).
+double availableMemoryBytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kB = 0;
+  std::string unit;
+  while (meminfo >> key >> kB >> unit)
+    if (key == "MemAvailable:") return kB * 1024.0;
+  return 0.0;
+}
+
 // True when x is on a grid line x0 + k h (to round-off).
 bool onGridLine(double x, double x0, double h) {
   const double k = (x - x0) / h;
@@ -56,7 +115,10 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     : deck_(deck), comm_(comm) {
   const ParameterList& problem = deck_.sublist("Problem");
   outputDir_ = outputOverride.empty() ? problem.get<std::string>("Output Directory") : outputOverride;
-  if (outputDir_.empty()) throw DeckError("'Problem/Output Directory' must not be empty");
+  outputKey_ = outputOverride.empty() ? "'Problem/Output Directory'" : "--output";
+  if (outputDir_.empty()) throw DeckError(outputKey_ + " must not be empty");
+  // Before any work, on rank 0 (which creates it), the verdict shared by every rank.
+  rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] { checkOutputDirectory(outputDir_, outputKey_); });
 
   const ParameterList& g = deck_.sublist("Grid");
   grid_.x0 = g.get<double>("Origin X");
@@ -75,6 +137,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   const ParameterList& in = deck_.sublist("Integrator");
   dt_ = positive(in, "Integrator", "Time Step");
   steps_ = positiveInt(in, "Integrator", "Number of Steps");
+  checkProblemSize(in.get<std::string>("Type") == "Implicit");
 
   std::vector<ConstraintSpec> cspecs = buildConstraints();
   dist_ = std::make_unique<GridDistribution>(grid_, comm_);
@@ -113,7 +176,9 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     Monitor mon;
     mon.name = ml.name(it);
     mon.quantity = mp.get<std::string>("Quantity");
-    nearestParticle(mp.get<double>("X"), mp.get<double>("Y"), mon);
+    const double x = mp.get<double>("X"), y = mp.get<double>("Y");
+    nearestParticle(x, y, mon);
+    checkNearParticle("'Monitors/" + mon.name + "' at", x, y, mon);
     monitors_.push_back(mon);
   }
   energyHistory_ = deck_.sublist("Output").get<bool>("Energy And Momentum");
@@ -188,6 +253,7 @@ void Simulation::buildMaterialsAndBodies() {
     body.velocityX = b.get<double>("Velocity X");
     body.velocityY = b.get<double>("Velocity Y");
     const std::string shape = b.get<std::string>("Shape");
+    size_t fileParticles = 0;
     if (placement_ != Placement::Lattice && shape != "Rectangle")
       throw DeckError("'" + key + "/Shape' = " + shape + ": 'Method/Shape Function' = " + shape_ +
                       " places Gauss points in Rectangle bodies only");
@@ -226,7 +292,8 @@ void Simulation::buildMaterialsAndBodies() {
         body.particlesFile = b.get<std::string>("File");
         if (body.particlesFile.empty()) throw DeckError("'" + key + "/File' must name a particles file for Shape = Particles File");
         try {
-          readParticlesFile(body.particlesFile, 2, thickness_);  // checked here, before anything runs
+          // Checked here, before anything runs.
+          fileParticles = readParticlesFile(body.particlesFile, 2, thickness_).size();
         } catch (const std::exception& e) {
           throw DeckError("'" + key + "/File': " + e.what());
         }
@@ -241,8 +308,99 @@ void Simulation::buildMaterialsAndBodies() {
         throw DeckError("particles outside the grid: '" + key + "' (" + body.shape->describe() + ") extends beyond the grid [" +
                         formatNumber(grid_.x0) + ", " + formatNumber(grid_.xMax()) + "] x [" + formatNumber(grid_.y0) + ", " + formatNumber(grid_.yMax()) + "]");
     }
+    // For checkProblemSize: particles (exact for lattice-filled rectangles and Gauss points,
+    // by area for other shapes) and the cells the body covers.
+    double cells = 0, particles = 0;
+    if (!body.particlesFile.empty()) {
+      particles = cells = (double)fileParticles;
+    } else {
+      cells = body.shape->area() / (grid_.hx * grid_.hy);
+      particles = cells * (placement_ == Placement::GaussQ4   ? 4.0
+                           : placement_ == Placement::GaussQ9 ? 9.0 / 4.0
+                                                              : (double)body.rect.particlesPerCellX * body.rect.particlesPerCellY);
+    }
+    estimatedBodyCells_.push_back(cells);
+    estimatedBodyParticles_.push_back(particles);
     bodies_.push_back(body);
   }
+}
+
+void Simulation::checkProblemSize(bool implicit) const {
+  const std::string cells = "'Grid/Cells X' x 'Grid/Cells Y' = " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny);
+  const double nodes = (grid_.nx + 1.0) * (grid_.ny + 1.0);
+  if (nodes > kMaxGridNodes)
+    throw DeckError(cells + " makes " + formatNumber(nodes) + " grid nodes, more than the " + std::to_string(kMaxGridNodes) +
+                    " that impm's 32-bit local indices hold (two unknowns per node)");
+  double particles = 0, coveredCells = 0;
+  size_t largest = 0;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    particles += estimatedBodyParticles_[b];
+    coveredCells += estimatedBodyCells_[b];
+    if (estimatedBodyParticles_[b] > estimatedBodyParticles_[largest]) largest = b;
+  }
+  // The keys that set the largest body's particle count.
+  const BodySpec& big = bodies_[largest];
+  const std::string key = "'Bodies/" + big.name;
+  const std::string source =
+      !big.particlesFile.empty() ? key + "/File'"
+      : placement_ != Placement::Lattice
+          ? key + "' (the Gauss points of 'Method/Shape Function' = " + shape_ + ")"
+          : key + "/Particles Per Cell X' x 'Particles Per Cell Y' = " + std::to_string(big.rect.particlesPerCellX) + " x " +
+                std::to_string(big.rect.particlesPerCellY);
+  if (particles > std::numeric_limits<int>::max())
+    throw DeckError("the bodies make an estimated " + formatNumber(particles) + " particles (" + source + "), more than the " +
+                    std::to_string(std::numeric_limits<int>::max()) + " that a particle index holds");
+
+  const double limitGB = deck_.sublist("Problem").get<double>("Memory Limit GB");
+  if (!(limitGB >= 0)) throw DeckError("'Problem/Memory Limit GB' must not be negative, got " + formatNumber(limitGB));
+  const int ranks = comm_->getSize();
+  const double gridBytes = implicit ? nodes * kBytesPerNodeImplicitVoid + std::min(nodes, 2 * coveredCells) * kBytesPerNodeImplicitActive
+                                    : nodes * kBytesPerNodeExplicit;
+  const double particleBytes = particles * (ParticleSet::bytesPerParticle() + kFillBytesPerParticlePerRank * ranks);
+  const double needed = ranks * kBytesPerRank + gridBytes + particleBytes;
+  auto gigabytes = [](double bytes) { return formatNumber(std::max(0.01, std::round(bytes / 1e7) / 100)) + " GB"; };
+  // The machine's memory is read on rank 0 only: every rank takes its verdict.
+  rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] {
+    const double limit = limitGB > 0 ? limitGB * 1e9 : availableMemoryBytes();
+    if (limit > 0 && needed > limit)
+      throw DeckError("the run needs an estimated " + gigabytes(needed) + " (grid " + gigabytes(gridBytes) + ": " + cells +
+                      "; particles " + gigabytes(particleBytes) + ": " + formatNumber(particles) + " particles, the most from " + source +
+                      "), more than " +
+                      (limitGB > 0 ? "'Problem/Memory Limit GB' = " + formatNumber(limitGB)
+                                   : "the " + gigabytes(limit) + " available (MemAvailable; 'Problem/Memory Limit GB' sets a limit)"));
+  });
+}
+
+void Simulation::checkNodeReached(const std::string& key, double x, double y) const {
+  const double xn = grid_.nodeX((int)std::lround((x - grid_.x0) / grid_.hx));
+  const double yn = grid_.nodeY((int)std::lround((y - grid_.y0) / grid_.hy));
+  // A node's shape function reaches one cell (FE Q9: one element of two cells), plus the
+  // particle's half size with GIMP.
+  const double span = shape_ == "FE Q9" ? 2.0 : 1.0, reachX = span * grid_.hx, reachY = span * grid_.hy;
+  const double domain = shape_ == "GIMP" ? 1.0 : 0.0;
+  auto px = particles_.x;
+  auto hs = particles_.halfSize;
+  int local = 0;
+  Kokkos::parallel_reduce(
+      "node_force_reached", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
+      KOKKOS_LAMBDA(int p, int& n) {
+        if (std::abs(px(p, 0) - xn) < reachX + domain * hs(p, 0) && std::abs(px(p, 1) - yn) < reachY + domain * hs(p, 1)) ++n;
+      },
+      local);
+  int reached = 0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, local, Teuchos::outArg(reached));
+  if (reached == 0)
+    throw DeckError("'" + key + "/Type' = Node Force at (" + formatNumber(x) + ", " + formatNumber(y) +
+                    "): no particle reaches this grid node at t = 0, so the force would act on no mass; put it on a node of a "
+                    "body, or use a Particle Force");
+}
+
+void Simulation::checkNearParticle(const std::string& what, double x, double y, const Monitor& nearest) const {
+  const double distance = std::hypot(nearest.x0 - x, nearest.y0 - y), cell = std::hypot(grid_.hx, grid_.hy);
+  if (distance > cell)
+    throw DeckError(what + " (" + formatNumber(x) + ", " + formatNumber(y) + "): the nearest particle, at (" +
+                    formatNumber(nearest.x0) + ", " + formatNumber(nearest.y0) + "), is " + formatNumber(distance) +
+                    " m away, farther than one cell diagonal (" + formatNumber(cell) + " m): no body there");
 }
 
 std::vector<ConstraintSpec> Simulation::buildConstraints() {
@@ -299,7 +457,10 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     s.time.startTime = l.get<double>("Start Time");
     if (s.time.kind == TimeFunction::Kind::Sine && !(s.time.omega > 0))
       throw DeckError("'" + key + "/Angular Frequency' must be positive for a Sine load");
-    if (s.type == "Node Force") checkGridNode(key, s.x, s.y);
+    if (s.type == "Node Force") {
+      checkGridNode(key, s.x, s.y);
+      checkNodeReached(key, s.x, s.y);
+    }
     const std::string bodyName = l.get<std::string>("Body");
     if (s.type == "Face Traction") {
       const BodySpec& b = bodyNamed(key + "/Body", bodyName);
@@ -312,6 +473,7 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     if (s.type == "Particle Force") {
       Monitor m;
       nearestParticle(s.x, s.y, m);
+      checkNearParticle("'" + key + "/Type' = Particle Force at", s.x, s.y, m);
       particle = m.particleId;
     }
     loadParticle.push_back(particle);
@@ -341,8 +503,10 @@ void Simulation::buildIntegrator() {
     // c_p: the fastest material's. A factor above 1 leaves the measured stable range: allowed for
     // stability studies, with a warning, and the run's divergence guard stops a run that blows up.
     const double cp = materials_.maxPWaveSpeed();
-    const double limit =
-        factor * kTransferStabilityFraction / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
+    const double critical =
+        kTransferStabilityFraction / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
+    const double limit = factor * critical;
+    if (integratorType == "Explicit") criticalStep_ = critical;
     if (integratorType == "Explicit" && dt_ > limit)
       throw DeckError("'Integrator/Time Step' = " + formatNumber(dt_) + " exceeds the explicit stable limit " + formatNumber(limit) +
                       " (Stability Factor x " + formatNumber(kTransferStabilityFraction) +

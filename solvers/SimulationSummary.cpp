@@ -29,6 +29,12 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Wall Time", r.wallSeconds);
   s.set("Particle Steps Per Second", r.particleStepsPerSecond);
   s.set("Status", r.status);
+  if (r.divergedStep >= 0) {
+    ParameterList& d = s.sublist("Divergence");
+    d.set("Step", r.divergedStep);
+    d.set("Time", r.divergedTime);
+    d.set("Reason", r.divergence);
+  }
   s.set("Exact Solution", exact_ ? exact_->type() : std::string("None"));
   if (exact_) {
     s.set("Exact Modulus", exact_->modulus());

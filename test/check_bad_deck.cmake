@@ -1,35 +1,73 @@
-# Runs the impm driver on bad decks: each must exit non-zero with one line on stderr naming
-# the key, and must leave no output directory. Invoked by ctest (impm_bad_deck_cli).
+# Runs the impm driver on bad decks: each must exit with the status of its kind (2: the deck or
+# its paths are wrong; 1: the run failed), with one line of impm's on stderr naming the key, and
+# a bad deck must leave no output directory. Cases with NP 2 run under MPIEXEC: every rank must
+# end (no hang) with the same status. Invoked by ctest (impm_bad_deck_cli).
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 file(READ "${SRC}/../apps/bar_explicit_mpm_plane_stress.yaml" good_bar)
+file(READ "${SRC}/../apps/bar_explicit_mpm_plane_strain.yaml" good_bar_strain)
 file(READ "${SRC}/../apps/colliding_disks_explicit_mpm.yaml" good_disks)
 set(good "${good_bar}")
 
-function(expect_failure name search replace key)
-  string(REPLACE "${search}" "${replace}" deck "${good}")
-  if(deck STREQUAL good)
-    message(FATAL_ERROR "${name}: the test could not corrupt the deck ('${search}' not found)")
-  endif()
-  string(REGEX REPLACE "Output Directory: [^\n]*" "Output Directory: ${WORK}/out_${name}" deck "${deck}")
+# Writes `deck` as WORK/<name>.yaml with its Output Directory set to `output`, runs impm on `np`
+# ranks and checks the exit status and that impm wrote one line on stderr containing `key`
+# (mpirun adds its own report of a failed rank: only impm's lines are counted).
+function(run_and_check name deck output np expected_rc key)
+  string(REGEX REPLACE "Output Directory: [^\n]*" "Output Directory: ${output}" deck "${deck}")
   file(WRITE "${WORK}/${name}.yaml" "${deck}")
-  execute_process(COMMAND "${IMPM}" "${WORK}/${name}.yaml" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(rc EQUAL 0)
-    message(FATAL_ERROR "${name}: impm exited 0 on a bad deck")
+  set(command "${IMPM}")
+  if(NOT np EQUAL 1)
+    separate_arguments(flags UNIX_COMMAND "${MPIEXEC_FLAGS}")
+    set(command "${MPIEXEC}" ${flags} -np ${np} "${IMPM}")
   endif()
-  string(FIND "${err}" "${key}" found)
+  # A hang (issue 11: a rank left waiting in a barrier) fails here instead of at ctest's timeout.
+  execute_process(COMMAND ${command} "${WORK}/${name}.yaml" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  TIMEOUT 120)
+  if(NOT rc STREQUAL "${expected_rc}")
+    message(FATAL_ERROR "${name}: impm exited '${rc}', expected ${expected_rc}: ${err}")
+  endif()
+  # (Semicolons would split the lists below.)
+  string(REPLACE ";" "," err "${err}")
+  string(REGEX MATCHALL "impm:[^\n]*\n" lines "${err}")
+  list(LENGTH lines nlines)
+  if(np EQUAL 1)
+    string(REGEX MATCHALL "\n" all "${err}")
+    list(LENGTH all nall)
+  else()
+    set(nall ${nlines})
+  endif()
+  if(NOT nlines EQUAL 1 OR NOT nall EQUAL 1)
+    message(FATAL_ERROR "${name}: expected one line of impm's on stderr, got ${nlines}: ${err}")
+  endif()
+  string(FIND "${lines}" "${key}" found)
   if(found EQUAL -1)
     message(FATAL_ERROR "${name}: stderr does not name '${key}': ${err}")
   endif()
-  string(REGEX MATCHALL "\n" lines "${err}")
-  list(LENGTH lines nlines)
-  if(NOT nlines EQUAL 1)
-    message(FATAL_ERROR "${name}: expected one line on stderr, got ${nlines}: ${err}")
+  message(STATUS "${name} (np ${np}, exit ${rc}): ok: ${lines}")
+endfunction()
+
+# A bad deck: exit 2, the key named, nothing written. NP (default 1) and OUTPUT (default
+# WORK/out_<name>) may follow the four arguments.
+function(expect_failure name search replace key)
+  cmake_parse_arguments(C "" "NP;OUTPUT" "" ${ARGN})
+  if(NOT C_NP)
+    set(C_NP 1)
   endif()
-  if(EXISTS "${WORK}/out_${name}")
+  if(NOT C_OUTPUT)
+    set(C_OUTPUT "${WORK}/out_${name}")
+  endif()
+  string(REPLACE "${search}" "${replace}" deck "${good}")
+  if(deck STREQUAL good AND NOT search STREQUAL replace)  # (equal: only the output is bad)
+    message(FATAL_ERROR "${name}: the test could not corrupt the deck ('${search}' not found)")
+  endif()
+  set(existed FALSE)
+  if(EXISTS "${C_OUTPUT}")
+    set(existed TRUE)  # a file where the directory should go
+  endif()
+  run_and_check(${name} "${deck}" "${C_OUTPUT}" ${C_NP} 2 "${key}")
+  if((EXISTS "${C_OUTPUT}" AND NOT existed) OR IS_DIRECTORY "${C_OUTPUT}")
     message(FATAL_ERROR "${name}: output was written for a bad deck")
   endif()
-  message(STATUS "${name}: ok: ${err}")
 endfunction()
 
 expect_failure(unknown_key "    Density: 7800.0" "    Density: 7800.0\n    Densty: 1.0" "Material/Densty")
@@ -51,3 +89,59 @@ expect_failure(crossing_polygon "    upper disk:\n      Shape: Ellipse" "    upp
 expect_failure(empty_polygon "    upper disk:\n      Shape: Ellipse" "    upper disk:\n      Shape: Polygon" "Bodies/upper disk/Vertices")
 expect_failure(missing_file "    upper disk:\n      Shape: Ellipse" "    upper disk:\n      Shape: Particles File\n      File: ${WORK}/no_such.csv" "Bodies/upper disk/File")
 expect_failure(mixed_forms "  Materials:" "  Body:\n    X Max: 0.5\n  Materials:" "'Body' is the single-body form")
+
+# Issue 11. The output directory cannot be created: checked on rank 0 before any work, every
+# rank ends with the same message (it hung at np 2).
+file(WRITE "${WORK}/a_file" "not a directory\n")
+set(good "${good_bar}")
+expect_failure(output_in_proc "Name:" "Name:" "'Problem/Output Directory' = '/proc/impm_out' cannot be created"
+               NP 2 OUTPUT /proc/impm_out)
+expect_failure(output_under_file "Name:" "Name:" "'${WORK}/a_file' is not a directory" NP 2 OUTPUT "${WORK}/a_file/out")
+expect_failure(output_is_file "Name:" "Name:" "exists and is not a directory" OUTPUT "${WORK}/a_file")
+# A Node Force on a node no particle reaches (between the disks' corners) would act on nothing.
+set(good "${good_disks}")
+expect_failure(void_node_force "  Monitors:" "  Loads:\n    corner push:\n      Type: Node Force\n      X: 0.95\n      Y: 0.05\n      Force X: 1.0\n  Monitors:"
+               "'Loads/corner push/Type' = Node Force at (0.95, 0.05): no particle reaches this grid node" NP 2)
+# A Particle Force or a monitor far from every body (the nearest particle is over all ranks).
+set(good "${good_bar}")
+expect_failure(far_particle_force "  Loads:" "  Loads:\n    far push:\n      Type: Particle Force\n      X: 99\n      Y: 99\n      Force X: 1.0"
+               "'Loads/far push/Type' = Particle Force at (99, 99): the nearest particle, at (0.0299, 0.00045), is 139.986 m away" NP 2)
+expect_failure(far_monitor "  Monitors:" "  Monitors:\n    far:\n      Quantity: Velocity X\n      X: 99\n      Y: 99"
+               "'Monitors/far' at (99, 99): the nearest particle, at (0.0299, 0.00045), is 139.986 m away")
+# Sizes beyond the indices, or beyond the memory (the machine's, or Problem/Memory Limit GB).
+expect_failure(huge_grid "Cells X: 30" "Cells X: 2000000000" "'Grid/Cells X' x 'Grid/Cells Y' = 2000000000 x 1 makes 4e+09 grid nodes")
+set(ppc "Particles Per Cell X: 5\n    Particles Per Cell Y: 5")
+expect_failure(particle_count_overflow "${ppc}" "Particles Per Cell X: 50000\n    Particles Per Cell Y: 50000"
+               "the bodies make an estimated 7.5e+10 particles ('Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 50000 x 50000), more than the 2147483647")
+# 1.9e9 particles, ~570 GB: more than any test machine has.
+expect_failure(out_of_memory "${ppc}" "Particles Per Cell X: 8000\n    Particles Per Cell Y: 8000"
+               "the run needs an estimated 568.37 GB")
+string(REPLACE "  Grid:" "    Memory Limit GB: 1\n  Grid:" good "${good_bar}")
+expect_failure(memory_limit "${ppc}" "Particles Per Cell X: 500\n    Particles Per Cell Y: 500"
+               "'Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 500 x 500), more than 'Problem/Memory Limit GB' = 1" NP 2)
+
+# A diverging explicit run (dt 3.75 times the stable step, allowed by Stability Factor 5): exit
+# 1 with a message that says so (not "particles left the grid"), summary.yaml Status: diverged,
+# history.csv up to the last good step. At np 2 as well: every rank stops.
+foreach(np 1 2)
+  set(good "${good_bar_strain}")
+  string(REPLACE "Time Step: 1.0e-8" "Time Step: 2.0e-7" deck "${good}")
+  string(REPLACE "Number of Steps: 10000" "Number of Steps: 100" deck "${deck}")
+  string(REPLACE "      Consistent Projection Iterations: 1" "      Consistent Projection Iterations: 1\n      Stability Factor: 5" deck "${deck}")
+  string(REPLACE "History Interval: 10" "History Interval: 1" deck "${deck}")
+  string(REPLACE "Plot: true" "Plot: false" deck "${deck}")
+  set(output "${WORK}/out_diverged_np${np}")
+  run_and_check(diverged_np${np} "${deck}" "${output}" ${np} 1 "the run diverged at step 5 (t = 1e-06 s)")
+  file(READ "${output}/summary.yaml" summary)
+  foreach(expected "Status: diverged" "Steps: 4" "Step: 5")
+    string(FIND "${summary}" "${expected}" found)
+    if(found EQUAL -1)
+      message(FATAL_ERROR "diverged_np${np}: summary.yaml lacks '${expected}': ${summary}")
+    endif()
+  endforeach()
+  file(STRINGS "${output}/history.csv" rows)
+  list(LENGTH rows nrows)
+  if(NOT nrows EQUAL 6)  # the header and steps 0 to 4
+    message(FATAL_ERROR "diverged_np${np}: history.csv has ${nrows} lines, expected 6 (header, steps 0 to 4)")
+  endif()
+endforeach()

@@ -1,0 +1,15 @@
+# Runs one of the apps/ decks for a few steps (the `sanitize` label): DECK, STEPS, WORK, IMPM.
+# It must complete (exit 0) with no sanitizer report on stderr.
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+file(READ "${DECK}" deck)
+string(REGEX REPLACE "Number of Steps: [^\n]*" "Number of Steps: ${STEPS}" deck "${deck}")
+string(REGEX REPLACE "Output Directory: [^\n]*" "Output Directory: ${WORK}/out" deck "${deck}")
+string(REPLACE "Plot: true" "Plot: false" deck "${deck}")
+get_filename_component(name "${DECK}" NAME)
+file(WRITE "${WORK}/${name}" "${deck}")
+execute_process(COMMAND "${IMPM}" "${WORK}/${name}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR err MATCHES "runtime error|Sanitizer")
+  message(FATAL_ERROR "${name}, ${STEPS} steps: exit ${rc}\n${out}\n${err}")
+endif()
+message(STATUS "${name}, ${STEPS} steps: ${out}")
