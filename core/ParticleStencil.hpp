@@ -46,12 +46,14 @@ struct ParticleStencil {
       // rigid motion stays strain-free and mass, force and stiffness see the same domain.
       // (Dropping the nodes beyond the edge instead lost both, and a GIMP body that filled the
       // grid vibrated up to 3 times too fast; issue 12.)
-      const double lo = x - l > origin ? x - l : origin;
       const double end = origin + ncells * h;
-      const double hi = x + l < end ? x + l : end;
-      if (!(hi > lo)) { first = 0; count = 0; return; }  // wholly outside (the run loop stops)
-      x = 0.5 * (lo + hi);
-      l = 0.5 * (hi - lo);
+      if (x - l < origin || x + l > end) {  // rare: only domains across the edge change
+        const double lo = x - l > origin ? x - l : origin;
+        const double hi = x + l < end ? x + l : end;
+        if (!(hi > lo)) { first = 0; count = 0; return; }  // wholly outside (the run loop stops)
+        x = 0.5 * (lo + hi);
+        l = 0.5 * (hi - lo);
+      }
     }
     Shape::range((x - origin) / h, l / h, first, count);
     if (Shape::fixed_count) {
