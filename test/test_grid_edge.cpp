@@ -14,6 +14,7 @@
 #include "core/InputDeck.hpp"
 #include "core/ParticleStencil.hpp"
 #include "solvers/Simulation.hpp"
+#include "test/RunHistory.hpp"
 
 namespace {
 
@@ -88,20 +89,9 @@ TipResponse runCantilever(const std::string& shape, const std::string& integrato
                           Teuchos::FancyOStream& out) {
   std::string tag = shape + "_" + integrator + (padded ? "_padded" : "_filled");
   ParameterList d = cantileverDeck(shape, integrator, padded, "test_output/cantilever_" + tag);
-  impm::validateDeck(d);
-  impm::Simulation sim(d, Tpetra::getDefaultComm());
-  std::ostringstream log;
-  sim.run(log);
-  std::ifstream in(sim.outputDirectory() + "/history.csv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<double> t, w;
-  while (std::getline(in, line)) {
-    double a, b;
-    char comma;
-    std::istringstream row(line);
-    if (row >> a >> comma >> b) { t.push_back(a); w.push_back(b); }
-  }
+  const impm_test::History h = impm_test::runDeck(d);
+  const std::vector<double>& t = h.at("time");
+  const std::vector<double>& w = h.at("tip");
   TipResponse r;
   if (w.size() < 3) return r;
   const double lo = *std::min_element(w.begin(), w.end()), hi = *std::max_element(w.begin(), w.end());

@@ -1,0 +1,48 @@
+// Test helper: run a deck in-process and read back its history.csv by column name (the
+// integration tests compare monitor and energy histories).
+#pragma once
+
+#include <Teuchos_ParameterList.hpp>
+#include <Tpetra_Core.hpp>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/InputDeck.hpp"
+#include "solvers/Simulation.hpp"
+
+namespace impm_test {
+
+// Columns of history.csv, by header name ("time", monitor names, "total_energy", ...).
+using History = std::map<std::string, std::vector<double>>;
+
+inline History readHistory(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> names;
+  if (std::getline(in, line)) {
+    std::istringstream head(line);
+    for (std::string name; std::getline(head, name, ',');) names.push_back(name);
+  }
+  History h;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::string cell;
+    for (size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k) h[names[k]].push_back(std::stod(cell));
+  }
+  return h;
+}
+
+// Validates and runs `deck` on the default communicator; returns its history.csv.
+inline History runDeck(Teuchos::ParameterList deck) {
+  impm::validateDeck(deck);
+  impm::Simulation sim(deck, Tpetra::getDefaultComm());
+  std::ostringstream log;
+  sim.run(log);
+  return readHistory(sim.outputDirectory() + "/history.csv");
+}
+
+}  // namespace impm_test
