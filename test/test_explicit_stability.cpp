@@ -39,7 +39,8 @@ double peakEnergy(double fractionOfCheckedLimit, Teuchos::FancyOStream& out) {
       .set("Plot", false).set("Progress", false);
   double peak = 0;
   try {
-    for (double e : impm_test::runDeck(d).at("total_energy")) peak = std::max(peak, e);
+    const impm_test::History h = impm_test::runDeck(d);  // (kept: .at() of a temporary would dangle)
+    for (double e : h.at("total_energy")) peak = std::max(peak, e);
   } catch (const impm::DeckError&) {
     throw;  // a bad deck is the test's error, not a diverged run
   } catch (const std::exception& e) {
