@@ -19,17 +19,18 @@ GridDistribution::GridDistribution(const StructuredGrid& grid,
   cellBegin_ = rank * base + std::min(rank, extra);
   cellEnd_ = cellBegin_ + base + (rank < extra ? 1 : 0);
 
-  const int ny1 = grid.nodesY();
+  const int ny1 = grid.nodesY(), nz1 = grid.nodesZ();
   const int ownedColEnd = (rank == nranks - 1) ? grid.nx + 1 : cellEnd_;
-  owned_ = LocalNodeIndexer{cellBegin_, ownedColEnd, ny1};
+  owned_ = LocalNodeIndexer{cellBegin_, ownedColEnd, ny1, nz1};
   ghosted_ = LocalNodeIndexer{std::max(0, cellBegin_ - ghostColumns),
-                              std::min(grid.nx + 1, cellEnd_ + ghostColumns + 1), ny1};
+                              std::min(grid.nx + 1, cellEnd_ + ghostColumns + 1), ny1, nz1};
 
   auto gidsOf = [&](const LocalNodeIndexer& ix) {
     Teuchos::Array<GO> gids;
     gids.reserve(ix.size());
     for (int i = ix.colBegin; i < ix.colEnd; ++i)
-      for (int j = 0; j < ny1; ++j) gids.push_back(grid.nodeId(i, j));
+      for (int j = 0; j < ny1; ++j)
+        for (int k = 0; k < nz1; ++k) gids.push_back(grid.nodeId(i, j, k));
     return gids;
   };
   const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
@@ -38,11 +39,11 @@ GridDistribution::GridDistribution(const StructuredGrid& grid,
   importer_ = Teuchos::rcp(new Import(ownedMap_, ghostedMap_));
 }
 
-GridFields::GridFields(const GridDistribution& dist) : importer(dist.importer()) {
-  accumOwned = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), accum::Count));
-  accumGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), accum::Count));
-  kinOwned = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), kin::Count));
-  kinGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), kin::Count));
+GridFields::GridFields(const GridDistribution& dist, int accumCount, int kinCount) : importer(dist.importer()) {
+  accumOwned = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), accumCount));
+  accumGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), accumCount));
+  kinOwned = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), kinCount));
+  kinGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), kinCount));
 }
 
 void GridFields::exportAccumulated() {

@@ -1,5 +1,5 @@
-// How the grid is spread over MPI ranks: each rank owns a slab of cell columns, the node
-// columns at their left edges (the last rank also the right edge of the grid), and sees a
+// How the grid is spread over MPI ranks: each rank owns a slab of cell columns (all rows and
+// layers), the node columns at their left edges (the last rank also the right edge of the grid), and sees a
 // band of ghost node columns either side wide enough for every particle it owns.
 // Grid fields live in Tpetra multivectors over these maps; one Import is built here.
 #pragma once
@@ -42,18 +42,21 @@ class GridDistribution {
   Teuchos::RCP<const Import> importer_;
 };
 
-// Columns of the grid multivectors.
-namespace accum {  // particle-to-grid sums
-enum : int { Mass = 0, MomX, MomY, FextX, FextY, FintX, FintY, Count };
-}
-namespace kin {  // grid kinematics after the grid update
-enum : int { VelX = 0, VelY, AccX, AccY, Count };
-}
+// Columns of the explicit grid multivectors in Dim dimensions: a vector field takes Dim
+// consecutive columns, named by its first (X) one.
+template <int Dim>
+struct AccumColumns {  // particle-to-grid sums
+  static constexpr int Mass = 0, MomX = 1, FextX = 1 + Dim, FintX = 1 + 2 * Dim, Count = 1 + 3 * Dim;
+};
+template <int Dim>
+struct KinColumns {  // grid kinematics after the grid update
+  static constexpr int VelX = 0, AccX = Dim, Count = 2 * Dim;
+};
 
 // The grid multivectors of one integrator: particle-to-grid sums and kinematics, each as an
 // owned and a ghosted copy.
 struct GridFields {
-  explicit GridFields(const GridDistribution& dist);
+  GridFields(const GridDistribution& dist, int accumCount, int kinCount);
   Teuchos::RCP<MultiVector> accumOwned, accumGhosted;
   Teuchos::RCP<MultiVector> kinOwned, kinGhosted;
   Teuchos::RCP<const Import> importer;

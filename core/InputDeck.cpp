@@ -123,12 +123,16 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
     choice(*pl, "Shape", "Rectangle", {"Rectangle", "Ellipse", "Polygon", "Particles File"},
            "Rectangle: X/Y Min/Max on grid lines; Ellipse: Center X/Y and Radius X/Y (a disk when equal); "
            "Polygon: Vertices; Particles File: File. Lattice-filled shapes keep the sub-box centres inside the "
-           "shape; Ellipse and Polygon particles share the shape's exact area as volume");
+           "shape; Ellipse and Polygon particles share the shape's exact area as volume. In 3D (Grid/Dimension 3) "
+           "a Rectangle is the box X/Y/Z Min/Max, and Particles File rows are x, y, z, volume; Ellipse and "
+           "Polygon are 2D shapes");
     pl->set("Material", "", "name of the material (an entry of Materials)");
     number(*pl, "X Min", 0.0, "Rectangle: left edge (on a grid line)");
     number(*pl, "X Max", 1.0, "Rectangle: right edge (on a grid line)");
     number(*pl, "Y Min", 0.0, "Rectangle: bottom edge (on a grid line)");
     number(*pl, "Y Max", 1.0, "Rectangle: top edge (on a grid line)");
+    number(*pl, "Z Min", 0.0, "Rectangle in 3D: back face (on a grid plane)");
+    number(*pl, "Z Max", 1.0, "Rectangle in 3D: front face (on a grid plane)");
     number(*pl, "Center X", 0.5, "Ellipse: x of the centre");
     number(*pl, "Center Y", 0.5, "Ellipse: y of the centre");
     number(*pl, "Radius X", 0.25, "Ellipse: semi-axis along x");
@@ -138,45 +142,57 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
                         "relative to the working directory");
     pl->set("Particles Per Cell X", 2, "particles per cell in x (lattice fill)");
     pl->set("Particles Per Cell Y", 2, "particles per cell in y (lattice fill)");
+    pl->set("Particles Per Cell Z", 2, "particles per cell in z (lattice fill, 3D)");
     number(*pl, "Velocity X", 0.0, "initial velocity, x (m/s)");
     number(*pl, "Velocity Y", 0.0, "initial velocity, y (m/s)");
+    number(*pl, "Velocity Z", 0.0, "initial velocity, z (m/s; 3D)");
   } else if (collection == "Constraints") {
     choice(*pl, "Where", "Face", {"Face", "Node", "Box"},
            "a face of a rectangular body, the grid node at (X, Y), or every grid node in the box X/Y Min/Max "
            "(edges included)");
-    choice(*pl, "Face", "x-", {"x-", "x+", "y-", "y+"}, "face of the body (Where = Face)");
+    choice(*pl, "Face", "x-", {"x-", "x+", "y-", "y+", "z-", "z+"}, "face of the body (Where = Face; z-, z+ in 3D)");
     pl->set("Body", "", "the body whose face it is (Where = Face; empty: the first body)");
     number(*pl, "X", 0.0, "x of the node (Where = Node)");
     number(*pl, "Y", 0.0, "y of the node (Where = Node)");
+    number(*pl, "Z", 0.0, "z of the node (Where = Node; 3D)");
     number(*pl, "X Min", 0.0, "box (Where = Box)");
     number(*pl, "X Max", 0.0, "box (Where = Box)");
     number(*pl, "Y Min", 0.0, "box (Where = Box)");
     number(*pl, "Y Max", 0.0, "box (Where = Box)");
-    choice(*pl, "Components", "xy", {"x", "y", "xy"}, "displacement components fixed to zero");
+    number(*pl, "Z Min", 0.0, "box (Where = Box; 3D)");
+    number(*pl, "Z Max", 0.0, "box (Where = Box; 3D)");
+    choice(*pl, "Components", "xy", {"x", "y", "z", "xy", "xz", "yz", "xyz"},
+           "displacement components fixed to zero (z: 3D only)");
   } else if (collection == "Loads") {
     choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force", "Body Force"},
            "uniform traction on a face of a rectangular body (consistent nodal forces), a force on the grid "
            "node at (X, Y), a force carried by the particle nearest (X, Y), or a body force m_p g "
            "(Acceleration X/Y, e.g. gravity) on the particles of Body");
-    choice(*pl, "Face", "x+", {"x-", "x+", "y-", "y+"}, "face of the body (Face Traction)");
+    choice(*pl, "Face", "x+", {"x-", "x+", "y-", "y+", "z-", "z+"}, "face of the body (Face Traction; z-, z+ in 3D)");
     pl->set("Body", "", "Face Traction: the body whose face it is (empty: the first body); Body Force: the "
                         "body it acts on (empty: every body)");
     number(*pl, "Acceleration X", 0.0, "Body Force: acceleration, x (m/s^2)");
     number(*pl, "Acceleration Y", 0.0, "Body Force: acceleration, y (m/s^2)");
+    number(*pl, "Acceleration Z", 0.0, "Body Force: acceleration, z (m/s^2; 3D)");
     number(*pl, "X", 0.0, "x of the point (Node Force, Particle Force)");
     number(*pl, "Y", 0.0, "y of the point (Node Force, Particle Force)");
+    number(*pl, "Z", 0.0, "z of the point (Node Force, Particle Force; 3D)");
     number(*pl, "Force X", 0.0, "total force, x component (N)");
     number(*pl, "Force Y", 0.0, "total force, y component (N)");
+    number(*pl, "Force Z", 0.0, "total force, z component (N; 3D)");
     choice(*pl, "Time Function", "Step", {"Step", "Sine", "Constant"},
            "Step: F H(t - Start Time); Sine: F sin(omega t); Constant: F (the same factor scales a Body Force)");
     number(*pl, "Angular Frequency", 0.0, "omega of the Sine time function (rad/s)");
     number(*pl, "Start Time", 0.0, "time at which a Step load comes on (s)");
   } else if (collection == "Monitors") {
     choice(*pl, "Quantity", "Displacement X",
-           {"Displacement X", "Displacement Y", "Velocity X", "Velocity Y", "Stress XX", "Stress YY", "Stress XY"},
-           "particle quantity recorded in history.csv");
-    number(*pl, "X", 0.0, "the particle nearest (X, Y) at t = 0 is monitored");
-    number(*pl, "Y", 0.0, "the particle nearest (X, Y) at t = 0 is monitored");
+           {"Displacement X", "Displacement Y", "Displacement Z", "Velocity X", "Velocity Y", "Velocity Z", "Stress XX",
+            "Stress YY", "Stress XY", "Stress ZZ", "Stress YZ", "Stress XZ"},
+           "particle quantity recorded in history.csv (Z and the YZ, XZ stresses in 3D; Stress ZZ in 2D is the "
+           "out-of-plane stress, zero in plane stress)");
+    number(*pl, "X", 0.0, "the particle nearest (X, Y[, Z]) at t = 0 is monitored");
+    number(*pl, "Y", 0.0, "the particle nearest (X, Y[, Z]) at t = 0 is monitored");
+    number(*pl, "Z", 0.0, "the particle nearest (X, Y, Z) at t = 0 is monitored (3D)");
   } else {
     throw std::logic_error("no collection " + collection);
   }
@@ -197,15 +213,20 @@ RCP<const ParameterList> validParameters() {
   }
   {
     ParameterList& p = valid->sublist("Grid", false, "structured background grid");
+    p.set("Dimension", 2, "2 (plane strain or plane stress, with Thickness) or 3 (Origin Z, Cells Z, Cell Size Z; "
+                          "no Plane Condition or Thickness)");
     number(p, "Origin X", 0.0, "x of the lower-left corner");
     number(p, "Origin Y", 0.0, "y of the lower-left corner");
+    number(p, "Origin Z", 0.0, "z of the lower corner (3D)");
     p.set("Cells X", 10, "number of cells in x");
     p.set("Cells Y", 1, "number of cells in y");
+    p.set("Cells Z", 1, "number of cells in z (3D)");
     number(p, "Cell Size X", 1.0, "cell size in x (m)");
     number(p, "Cell Size Y", 1.0, "cell size in y (m)");
+    number(p, "Cell Size Z", 1.0, "cell size in z (m; 3D)");
     choice(p, "Plane Condition", "Plane Strain", {"Plane Strain", "Plane Stress"},
            "2D idealisation; a bar in plane stress has modulus E, in plane strain E/(1 - nu^2)");
-    number(p, "Thickness", 1.0, "out-of-plane thickness b (m)");
+    number(p, "Thickness", 1.0, "out-of-plane thickness b (m; 2D)");
   }
   valid->sublist("Materials", false, "named sublists, each a material (see --print-defaults)").disableRecursiveValidation();
   valid->sublist("Bodies", false,
@@ -217,7 +238,8 @@ RCP<const ParameterList> validParameters() {
            "MPM: linear tent at particle points; GIMP: uniform GIMP; FE Q4 / FE Q9: the finite-element "
            "reference on the same kernels, particles fixed at the Gauss points (Q4: bilinear, 2 x 2 per cell; "
            "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
-           "only, Rectangle bodies only; Particles Per Cell is not used");
+           "only, Rectangle bodies only; Particles Per Cell is not used. In 3D FE Q4 is the trilinear Hex8 "
+           "(2 x 2 x 2 points per cell) and FE Q9 the triquadratic Hex27 (3 x 3 x 3 per element of 2 x 2 x 2 cells)");
   }
   {
     ParameterList& p = valid->sublist("Integrator", false, "time integration");
@@ -410,6 +432,15 @@ void validateDeck(ParameterList& deck) {
     if (deck.isSublist(old) && deck.isSublist("Bodies"))
       throw DeckError(std::string("'") + old + "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
                       "'Materials' / 'Bodies')");
+  // A 3D deck has no 2D idealisation: a Plane Condition or Thickness it names would be ignored.
+  if (deck.isSublist("Grid") && deck.sublist("Grid").isType<int>("Dimension") &&
+      deck.sublist("Grid").get<int>("Dimension") == 3) {
+    for (const char* key : {"Plane Condition", "Thickness"})
+      if (deck.sublist("Grid").isParameter(key))
+        throw DeckError(std::string("'Grid/") + key + "' is a 2D idealisation; a deck with 'Grid/Dimension' = 3 has none (remove it)");
+    if (deck.isSublist("Material") || deck.isSublist("Body"))
+      throw DeckError("the single-body form ('Material', 'Body') is 2D; a deck with 'Grid/Dimension' = 3 uses 'Materials' and 'Bodies'");
+  }
   convertSingleBodyForm(deck);
   checkList(deck, *valid, "");
   try {

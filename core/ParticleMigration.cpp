@@ -111,7 +111,7 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist) {
     Kokkos::deep_copy(rows, h);
     return rows;
   };
-  ParticleSet next(0);
+  ParticleSet next(0, ps.dim);
   next.unpackAppend(kept);
   next.unpackAppend(rowsOf(fromL, nFromL));
   next.unpackAppend(rowsOf(fromR, nFromR));

@@ -1,36 +1,60 @@
-// Material points as Kokkos Views (structure of arrays), on the node's memory space.
+// Material points as Kokkos Views (structure of arrays), on the node's memory space, in 2D or
+// 3D. The views carry the dimension at run time (x is count x dim); the kernels that read them
+// are templated on the dimension (Dim), so their loops over components unroll.
 #pragma once
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
 
+#include <string>
+
 #include "core/Types.hpp"
 
 namespace impm {
 
+// The stored stress components: xx, yy, xy, zz, then in 3D yz, xz. In 2D sigma_zz (index 3) is
+// the out-of-plane stress of plane strain (zero in plane stress); the first three are in-plane.
+// The tangent D acts on strains in the same (Voigt) order, with engineering shears: component v
+// of a Voigt vector is stored component v, for v < voigt.
+template <int Dim>
+struct StressLayout {
+  static constexpr int count = Dim == 2 ? 4 : 6;
+  static constexpr int voigt = Dim == 2 ? 3 : 6;
+  // Stored index of sigma_ij, i, j < Dim.
+  KOKKOS_INLINE_FUNCTION static constexpr int index(int i, int j) {
+    return i == j ? (i == 2 ? 3 : i) : (i + j == 1 ? 2 : (i + j == 3 ? 4 : 5));
+  }
+  // The (i, j) pair of Voigt component v.
+  KOKKOS_INLINE_FUNCTION static constexpr int first(int v) { return v == 0 ? 0 : v == 1 ? 1 : v == 2 ? 0 : v == 3 ? 2 : v == 4 ? 1 : 0; }
+  KOKKOS_INLINE_FUNCTION static constexpr int second(int v) { return v == 0 ? 0 : v == 1 ? 1 : v == 2 ? 1 : v == 3 ? 2 : 2; }
+};
+
+inline int stressComponents(int dim) { return dim == 2 ? 4 : 6; }
+
 struct ParticleSet {
-  using Vec2 = Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType>;
-  using Mat2 = Kokkos::View<double* [2][2], Kokkos::LayoutRight, DeviceType>;
+  using Vec = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;   // count x dim
+  using Mat = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>;  // count x dim x dim
   using Scal = Kokkos::View<double*, DeviceType>;
-  using Stress = Kokkos::View<double* [4], Kokkos::LayoutRight, DeviceType>;  // xx, yy, xy, zz
+  using Stress = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;  // count x 4 (2D) or 6 (3D)
   using Ids = Kokkos::View<int*, DeviceType>;
   using GlobalIds = Kokkos::View<long long*, DeviceType>;
 
   int count = 0;
-  Vec2 x;          // current position
-  Vec2 x0;         // reference position (displacement u = x - x0)
-  Vec2 v;          // velocity
-  Vec2 a;          // acceleration (implicit Newmark and output)
-  Vec2 halfSize;   // half size of the particle domain (GIMP); uGIMP keeps it fixed
+  int dim = 2;
+  Vec x;           // current position
+  Vec x0;          // reference position (displacement u = x - x0)
+  Vec v;           // velocity
+  Vec a;           // acceleration (implicit Newmark and output)
+  Vec halfSize;    // half size of the particle domain (GIMP); uGIMP keeps it fixed
   Scal mass;
   Scal volume0;    // reference volume
   Scal volume;     // current volume, volume0 * det F
-  Stress stress;   // Cauchy stress
-  Mat2 F;          // deformation gradient
-  Mat2 gradient;   // scratch: gradient of a grid field at the particle (velocity or displacement)
+  Stress stress;   // Cauchy stress (StressLayout)
+  Mat F;           // deformation gradient
+  Mat gradient;    // scratch: gradient of a grid field at the particle (velocity or displacement)
   // Displacement of particles that do not move (the FE reference's Gauss points); empty
   // otherwise, where the displacement is x - x0.
-  Vec2 u;
+  Vec u;
   // Identity: the body and material (indices into the deck's Bodies and Materials) and a global
   // id that does not depend on the MPI decomposition (monitors and particle loads use it).
   Ids body;
@@ -38,44 +62,52 @@ struct ParticleSet {
   GlobalIds id;
 
   bool fixedPositions() const { return u.extent(0) > 0; }
+  int stressCount() const { return stressComponents(dim); }
 
   ParticleSet() = default;
-  explicit ParticleSet(int n) : count(n) {
-    x = Vec2("x", n); x0 = Vec2("x0", n); v = Vec2("v", n); a = Vec2("a", n);
-    halfSize = Vec2("halfSize", n);
+  explicit ParticleSet(int n, int dimension = 2) : count(n), dim(dimension) {
+    x = Vec("x", n, dim); x0 = Vec("x0", n, dim); v = Vec("v", n, dim); a = Vec("a", n, dim);
+    halfSize = Vec("halfSize", n, dim);
     mass = Scal("mass", n); volume0 = Scal("volume0", n); volume = Scal("volume", n);
-    stress = Stress("stress", n); F = Mat2("F", n); gradient = Mat2("gradient", n);
+    stress = Stress("stress", n, stressCount()); F = Mat("F", n, dim, dim); gradient = Mat("gradient", n, dim, dim);
     body = Ids("body", n); material = Ids("material", n); id = GlobalIds("id", n);
     auto Fv = F;
+    const int d = dim;
     Kokkos::parallel_for("init_F", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int p) {
-      Fv(p, 0, 0) = 1.0; Fv(p, 1, 1) = 1.0; Fv(p, 0, 1) = 0.0; Fv(p, 1, 0) = 0.0;
+      for (int i = 0; i < d; ++i)
+        for (int j = 0; j < d; ++j) Fv(p, i, j) = i == j ? 1.0 : 0.0;
     });
   }
+
+  // A vector view of this set's shape (fixed particles' u).
+  Vec newVector(const std::string& label) const { return Vec(label, count, dim); }
 
   // --- ready for migration between ranks: every field of a particle as one row of doubles ---
   // (ids fit a double exactly below 2^53). The scratch `gradient` is not carried; the fixed
   // particles' `u` is (FE reference), when present.
-  int packedWidth() const { return 2 * 5 + 3 + 4 + 4 + 3 + (fixedPositions() ? 2 : 0); }
+  int packedWidth() const { return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0); }
   using Packed = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;
 
   // Rows of `buffer` (extent indices.extent(0) x packedWidth()) from the particles `indices`.
   void pack(const Ids& indices, const Packed& buffer) const {
     const ParticleSet ps = *this;
     const bool withU = fixedPositions();
+    const int nd = dim, ns = stressCount();
     Kokkos::parallel_for(
         "particles_pack", Kokkos::RangePolicy<ExecutionSpace>(0, indices.extent(0)), KOKKOS_LAMBDA(int k) {
           const int p = indices(k);
           int c = 0;
-          for (int d = 0; d < 2; ++d) {
+          for (int d = 0; d < nd; ++d) {
             buffer(k, c++) = ps.x(p, d); buffer(k, c++) = ps.x0(p, d); buffer(k, c++) = ps.v(p, d);
             buffer(k, c++) = ps.a(p, d); buffer(k, c++) = ps.halfSize(p, d);
           }
           buffer(k, c++) = ps.mass(p); buffer(k, c++) = ps.volume0(p); buffer(k, c++) = ps.volume(p);
-          for (int i = 0; i < 4; ++i) buffer(k, c++) = ps.stress(p, i);
-          for (int i = 0; i < 2; ++i)
-            for (int j = 0; j < 2; ++j) buffer(k, c++) = ps.F(p, i, j);
+          for (int i = 0; i < ns; ++i) buffer(k, c++) = ps.stress(p, i);
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j) buffer(k, c++) = ps.F(p, i, j);
           buffer(k, c++) = ps.body(p); buffer(k, c++) = ps.material(p); buffer(k, c++) = (double)ps.id(p);
-          if (withU) { buffer(k, c++) = ps.u(p, 0); buffer(k, c++) = ps.u(p, 1); }
+          if (withU)
+            for (int d = 0; d < nd; ++d) buffer(k, c++) = ps.u(p, d);
         });
   }
 
@@ -85,36 +117,38 @@ struct ParticleSet {
     resize(count + (int)buffer.extent(0));
     const ParticleSet ps = *this;
     const bool withU = fixedPositions();
+    const int nd = dim, ns = stressCount();
     Kokkos::parallel_for(
         "particles_unpack", Kokkos::RangePolicy<ExecutionSpace>(0, buffer.extent(0)), KOKKOS_LAMBDA(int k) {
           const int p = first + k;
           int c = 0;
-          for (int d = 0; d < 2; ++d) {
+          for (int d = 0; d < nd; ++d) {
             ps.x(p, d) = buffer(k, c++); ps.x0(p, d) = buffer(k, c++); ps.v(p, d) = buffer(k, c++);
             ps.a(p, d) = buffer(k, c++); ps.halfSize(p, d) = buffer(k, c++);
           }
           ps.mass(p) = buffer(k, c++); ps.volume0(p) = buffer(k, c++); ps.volume(p) = buffer(k, c++);
-          for (int i = 0; i < 4; ++i) ps.stress(p, i) = buffer(k, c++);
-          for (int i = 0; i < 2; ++i)
-            for (int j = 0; j < 2; ++j) ps.F(p, i, j) = buffer(k, c++);
+          for (int i = 0; i < ns; ++i) ps.stress(p, i) = buffer(k, c++);
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j) ps.F(p, i, j) = buffer(k, c++);
           ps.body(p) = (int)buffer(k, c++); ps.material(p) = (int)buffer(k, c++); ps.id(p) = (long long)buffer(k, c++);
-          if (withU) { ps.u(p, 0) = buffer(k, c++); ps.u(p, 1) = buffer(k, c++); }
+          if (withU)
+            for (int d = 0; d < nd; ++d) ps.u(p, d) = buffer(k, c++);
         });
   }
 
   // Keeps the first min(n, count) particles and makes room for n.
   void resize(int n) {
-    Kokkos::resize(x, n); Kokkos::resize(x0, n); Kokkos::resize(v, n); Kokkos::resize(a, n);
-    Kokkos::resize(halfSize, n); Kokkos::resize(mass, n); Kokkos::resize(volume0, n); Kokkos::resize(volume, n);
-    Kokkos::resize(stress, n); Kokkos::resize(F, n); Kokkos::resize(gradient, n);
+    Kokkos::resize(x, n, dim); Kokkos::resize(x0, n, dim); Kokkos::resize(v, n, dim); Kokkos::resize(a, n, dim);
+    Kokkos::resize(halfSize, n, dim); Kokkos::resize(mass, n); Kokkos::resize(volume0, n); Kokkos::resize(volume, n);
+    Kokkos::resize(stress, n, stressCount()); Kokkos::resize(F, n, dim, dim); Kokkos::resize(gradient, n, dim, dim);
     Kokkos::resize(body, n); Kokkos::resize(material, n); Kokkos::resize(id, n);
-    if (fixedPositions()) Kokkos::resize(u, n);
+    if (fixedPositions()) Kokkos::resize(u, n, dim);
     count = n;
   }
 
-  // Bytes held per particle by the views above.
-  static constexpr size_t bytesPerParticle() {
-    return sizeof(double) * (2 * 5 + 3 + 4 + 4 + 4) + 2 * sizeof(int) + sizeof(long long);
+  // Bytes held per particle by the views above (216 in 2D, 400 in 3D).
+  static size_t bytesPerParticle(int dim = 2) {
+    return sizeof(double) * (5 * dim + 3 + stressComponents(dim) + 2 * dim * dim) + 2 * sizeof(int) + sizeof(long long);
   }
 };
 

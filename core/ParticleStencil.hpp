@@ -1,5 +1,6 @@
-// The nodes a particle talks to, with tensor-product weights and gradient weights,
-// computed from a 1D shape-function trait (LinearMpm, UniformGimp or QuadraticLagrange).
+// The nodes a particle talks to, with tensor-product weights and gradient weights in Dim = 2
+// or 3 dimensions, computed from a 1D shape-function trait (LinearMpm, UniformGimp or
+// QuadraticLagrange).
 #pragma once
 
 #include "core/ShapeFunctions.hpp"
@@ -7,35 +8,90 @@
 
 namespace impm {
 
-template <class Shape>
+template <class Shape, int Dim = 2>
 struct ParticleStencil {
+  static_assert(Dim == 2 || Dim == 3, "impm grids are 2D or 3D");
   static constexpr int N = Shape::max_nodes_1d;
-  int i0 = 0, j0 = 0, ni = 0, nj = 0;
-  double wx[N], gx[N], wy[N], gy[N];
+  static constexpr int dim = Dim;
+  int first[Dim];  // first node index per direction
+  int count[Dim];  // nodes per direction
+  double w[Dim][N], g[Dim][N];  // 1D weights and gradient weights per direction
 
-  // (x, y): particle centre; (lx, ly): half sizes of its domain (clipped to the grid, see build1d).
+  // Centre and half sizes of the particle domain (clipped to the grid, see build1d) from the
+  // particle views: position(p, d), halfSize(p, d).
+  template <class PositionView, class SizeView>
+  KOKKOS_INLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
+                                         const SizeView& halfSize, int p) {
+    for (int d = 0; d < Dim; ++d)
+      build1d(position(p, d), grid.origin(d), grid.spacing(d), halfSize(p, d), grid.cells(d), first[d], count[d], w[d],
+              g[d]);
+  }
+  // From coordinates: (x, y) and half sizes (lx, ly) in 2D.
   KOKKOS_INLINE_FUNCTION
-  ParticleStencil(const StructuredGrid& g, double x, double y, double lx, double ly) {
-    build1d(x, g.x0, g.hx, lx, g.nx, i0, ni, wx, gx);
-    build1d(y, g.y0, g.hy, ly, g.ny, j0, nj, wy, gy);
+  ParticleStencil(const StructuredGrid& grid, double x, double y, double lx, double ly) {
+    static_assert(Dim == 2, "the (x, y, lx, ly) constructor is 2D");
+    build1d(x, grid.x0, grid.hx, lx, grid.nx, first[0], count[0], w[0], g[0]);
+    build1d(y, grid.y0, grid.hy, ly, grid.ny, first[1], count[1], w[1], g[1]);
+  }
+  // In Dim dimensions: centre xc[d] and half sizes l[d].
+  KOKKOS_INLINE_FUNCTION
+  ParticleStencil(const StructuredGrid& grid, const double* xc, const double* l) {
+    for (int d = 0; d < Dim; ++d)
+      build1d(xc[d], grid.origin(d), grid.spacing(d), l[d], grid.cells(d), first[d], count[d], w[d], g[d]);
   }
 
-  // Node counts per direction; compile-time constants for shapes with a fixed count, so that
-  // kernels' loops unroll.
-  KOKKOS_INLINE_FUNCTION int countX() const { return Shape::fixed_count ? N : ni; }
-  KOKKOS_INLINE_FUNCTION int countY() const { return Shape::fixed_count ? N : nj; }
+  // Node count along direction d; a compile-time constant for shapes with a fixed count, so
+  // that kernels' loops unroll.
+  KOKKOS_INLINE_FUNCTION int nodes(int d) const { return Shape::fixed_count ? N : count[d]; }
 
-  // f(n, w, dwdx, dwdy) for every node of the stencil: n its local index in `ix`, w = S_ip and
-  // (dwdx, dwdy) = grad S_ip. The one loop over a particle's nodes; kernels plug in the rest.
+  // f(n, w, grad) for every node of the stencil: n its local index in `ix`, w = S_ip and
+  // grad[d] = dS_ip/dx_d. The one loop over a particle's nodes; kernels plug in the rest.
   template <class F>
   KOKKOS_INLINE_FUNCTION void forEachNode(const LocalNodeIndexer& ix, F&& f) const {
-    for (int a = 0; a < countX(); ++a)
-      for (int b = 0; b < countY(); ++b) f(ix(i0 + a, j0 + b), weight(a, b), gradX(a, b), gradY(a, b));
+    if constexpr (Dim == 2) {
+      for (int a = 0; a < nodes(0); ++a)
+        for (int b = 0; b < nodes(1); ++b) {
+          const double grad[2] = {g[0][a] * w[1][b], w[0][a] * g[1][b]};
+          f(ix(first[0] + a, first[1] + b), w[0][a] * w[1][b], grad);
+        }
+    } else {
+      for (int a = 0; a < nodes(0); ++a)
+        for (int b = 0; b < nodes(1); ++b) {
+          const double wab = w[0][a] * w[1][b], gab = g[0][a] * w[1][b], wgb = w[0][a] * g[1][b];
+          for (int c = 0; c < nodes(2); ++c) {
+            const double grad[3] = {gab * w[2][c], wgb * w[2][c], wab * g[2][c]};
+            f(ix(first[0] + a, first[1] + b, first[2] + c), wab * w[2][c], grad);
+          }
+        }
+    }
+  }
+  // The same with the stencil's own node offsets (a, b, c) instead of a grid index (assembly).
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void forEachOffset(F&& f) const {
+    if constexpr (Dim == 2) {
+      for (int a = 0; a < nodes(0); ++a)
+        for (int b = 0; b < nodes(1); ++b) {
+          const double grad[2] = {g[0][a] * w[1][b], w[0][a] * g[1][b]};
+          const int offset[2] = {a, b};
+          f(offset, w[0][a] * w[1][b], grad);
+        }
+    } else {
+      for (int a = 0; a < nodes(0); ++a)
+        for (int b = 0; b < nodes(1); ++b)
+          for (int c = 0; c < nodes(2); ++c) {
+            const double grad[3] = {g[0][a] * w[1][b] * w[2][c], w[0][a] * g[1][b] * w[2][c], w[0][a] * w[1][b] * g[2][c]};
+            const int offset[3] = {a, b, c};
+            f(offset, w[0][a] * w[1][b] * w[2][c], grad);
+          }
+    }
   }
 
-  KOKKOS_INLINE_FUNCTION double weight(int a, int b) const { return wx[a] * wy[b]; }
-  KOKKOS_INLINE_FUNCTION double gradX(int a, int b) const { return gx[a] * wy[b]; }
-  KOKKOS_INLINE_FUNCTION double gradY(int a, int b) const { return wx[a] * gy[b]; }
+  // 2D accessors (tests): node (a, b) of the stencil.
+  KOKKOS_INLINE_FUNCTION int countX() const { return nodes(0); }
+  KOKKOS_INLINE_FUNCTION int countY() const { return nodes(1); }
+  KOKKOS_INLINE_FUNCTION double weight(int a, int b) const { return w[0][a] * w[1][b]; }
+  KOKKOS_INLINE_FUNCTION double gradX(int a, int b) const { return g[0][a] * w[1][b]; }
+  KOKKOS_INLINE_FUNCTION double gradY(int a, int b) const { return w[0][a] * g[1][b]; }
 
  private:
   KOKKOS_INLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,

@@ -25,10 +25,4 @@ using MultiVector = Tpetra::MultiVector<Scalar, LO, GO, Node>;
 using Import = Tpetra::Import<LO, GO, Node>;
 using Export = Tpetra::Export<LO, GO, Node>;
 
-// Spatial dimension of this build. Kernels index vectors with `dim` so a 3D grid only
-// needs a third loop, not a rewrite of the data layout.
-constexpr int dim = 2;
-// Symmetric stress/strain in Voigt order xx, yy, xy (2D). sigma_zz is kept apart.
-constexpr int voigt = 3;
-
 }  // namespace impm

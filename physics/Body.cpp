@@ -19,22 +19,66 @@ void gaussRule(int n, std::vector<double>& xi, std::vector<double>& w) {
   }
 }
 
-// Gauss points of the elements of a rectangle on grid lines: one cell (Q4) or 2 x 2 cells (Q9).
+// Gauss points of the elements of a rectangle (3D: box) on grid lines: one cell (Q4, Hex8) or
+// 2 x 2 (x 2) cells (Q9, Hex27).
 std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const StructuredGrid& g, bool q9, double thickness) {
   const int cellI0 = (int)std::lround((body.xMin - g.x0) / g.hx), cellI1 = (int)std::lround((body.xMax - g.x0) / g.hx);
   const int cellJ0 = (int)std::lround((body.yMin - g.y0) / g.hy), cellJ1 = (int)std::lround((body.yMax - g.y0) / g.hy);
+  const bool solid = g.dim == 3;
+  const int cellK0 = solid ? (int)std::lround((body.zMin - g.z0) / g.hz) : 0;
+  const int cellK1 = solid ? (int)std::lround((body.zMax - g.z0) / g.hz) : 1;
   const int span = q9 ? 2 : 1;
   std::vector<double> xi, w;
   gaussRule(q9 ? 3 : 2, xi, w);
-  const double ex = 0.5 * span * g.hx, ey = 0.5 * span * g.hy;  // element half sizes
+  const double ex = 0.5 * span * g.hx, ey = 0.5 * span * g.hy, ez = 0.5 * span * g.hz;  // element half sizes
+  const size_t nzq = solid ? xi.size() : 1;
   std::vector<ParticlePoint> points;
   for (int i = cellI0; i < cellI1; i += span)
-    for (int j = cellJ0; j < cellJ1; j += span) {
-      const double cx = g.nodeX(i) + ex, cy = g.nodeY(j) + ey;
-      for (size_t a = 0; a < xi.size(); ++a)
-        for (size_t b = 0; b < xi.size(); ++b)
-          points.push_back({cx + xi[a] * ex, cy + xi[b] * ey, 0.0, 0.0, 0.0, 0.0, w[a] * w[b] * ex * ey * thickness});
-    }
+    for (int j = cellJ0; j < cellJ1; j += span)
+      for (int k = cellK0; k < cellK1; k += span) {
+        const double cx = g.nodeX(i) + ex, cy = g.nodeY(j) + ey, cz = solid ? g.nodeZ(k) + ez : 0.0;
+        for (size_t a = 0; a < xi.size(); ++a)
+          for (size_t b = 0; b < xi.size(); ++b)
+            for (size_t c = 0; c < nzq; ++c) {
+              const double weight = solid ? w[a] * w[b] * w[c] * ex * ey * ez : w[a] * w[b] * ex * ey * thickness;
+              points.push_back({cx + xi[a] * ex, cy + xi[b] * ey, solid ? cz + xi[c] * ez : 0.0, 0.0, 0.0, 0.0, weight});
+            }
+      }
+  return points;
+}
+
+// Lattice fill of a box on a 3D grid: each cell the box covers split into ppx x ppy x ppz
+// sub-boxes, a particle at each sub-box centre inside the box (in the order column, row, layer,
+// sub-box x, y, z).
+std::vector<ParticlePoint> fillBox(const RectangularBody& body, const StructuredGrid& g) {
+  const int px = body.particlesPerCellX, py = body.particlesPerCellY, pz = body.particlesPerCellZ;
+  if (px < 1 || py < 1 || pz < 1)
+    throw std::invalid_argument("particles per cell must be at least 1, got " + std::to_string(px) + " x " +
+                                std::to_string(py) + " x " + std::to_string(pz));
+  const double dx = g.hx / px, dy = g.hy / py, dz = g.hz / pz;
+  auto range = [](double lo, double hi, double origin, double h, int n, int& b, int& e) {
+    b = std::max(0, (int)std::floor((lo - origin) / h) - 1);
+    e = std::min(n, (int)std::floor((hi - origin) / h) + 2);
+  };
+  int i0, i1, j0, j1, k0, k1;
+  range(body.xMin, body.xMax, g.x0, g.hx, g.nx, i0, i1);
+  range(body.yMin, body.yMax, g.y0, g.hy, g.ny, j0, j1);
+  range(body.zMin, body.zMax, g.z0, g.hz, g.nz, k0, k1);
+  std::vector<ParticlePoint> points;
+  for (int i = i0; i < i1; ++i)
+    for (int j = j0; j < j1; ++j)
+      for (int k = k0; k < k1; ++k)
+        for (int a = 0; a < px; ++a)
+          for (int b = 0; b < py; ++b)
+            for (int c = 0; c < pz; ++c) {
+              ParticlePoint p;
+              p.x = g.nodeX(i) + (a + 0.5) * dx; p.y = g.nodeY(j) + (b + 0.5) * dy; p.z = g.nodeZ(k) + (c + 0.5) * dz;
+              if (p.x < body.xMin || p.x > body.xMax || p.y < body.yMin || p.y > body.yMax || p.z < body.zMin || p.z > body.zMax)
+                continue;
+              p.lx = 0.5 * dx; p.ly = 0.5 * dy; p.lz = 0.5 * dz;
+              p.volume = dx * dy * dz;
+              points.push_back(p);
+            }
   return points;
 }
 
@@ -56,9 +100,12 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearEla
     std::vector<ParticlePoint> pts;
     try {
       if (!body.particlesFile.empty()) {
-        pts = readParticlesFile(body.particlesFile, 2, thickness);
+        pts = readParticlesFile(body.particlesFile, g.dim, thickness);
       } else if (placement != Placement::Lattice) {
         pts = gaussPoints(body.rect, g, placement == Placement::GaussQ9, thickness);
+      } else if (g.dim == 3) {
+        if (!body.rectangle) throw std::invalid_argument("a 3D grid fills Rectangle (box) bodies and Particles Files only");
+        pts = fillBox(body.rect, g);
       } else {
         // Rectangles on grid lines need no volume scaling; other shapes get their exact area.
         pts = fillShape(*body.shape, box, body.rect.particlesPerCellX, body.rect.particlesPerCellY, thickness, 0, g.nx,
@@ -70,14 +117,18 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearEla
     // A later body's shape takes the place of the earlier bodies' particles inside it.
     if (body.shape && b > 0) {
       std::vector<TaggedPoint> kept;
-      for (const auto& tp : all)
-        if (!body.shape->contains(tp.point.x, tp.point.y)) kept.push_back(tp);
+      for (const auto& tp : all) {
+        const bool insideZ = g.dim == 2 || (tp.point.z >= body.rect.zMin && tp.point.z <= body.rect.zMax);
+        if (!(insideZ && body.shape->contains(tp.point.x, tp.point.y))) kept.push_back(tp);
+      }
       all.swap(kept);
     }
     const double tol = 1e-9 * std::min(g.hx, g.hy);
+    const double tolZ = 1e-9 * g.hz;
     int inside = 0;
     for (const auto& p : pts)
-      if (p.x >= g.x0 - tol && p.x <= g.xMax() + tol && p.y >= g.y0 - tol && p.y <= g.yMax() + tol) {
+      if (p.x >= g.x0 - tol && p.x <= g.xMax() + tol && p.y >= g.y0 - tol && p.y <= g.yMax() + tol &&
+          (g.dim == 2 || (p.z >= g.z0 - tolZ && p.z <= g.zMax() + tolZ))) {
         all.push_back({p, b});
         ++inside;
       }
@@ -99,7 +150,7 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearEla
   }
 
   const int n = (int)mine.size();
-  ParticleSet ps(n);
+  ParticleSet ps(n, g.dim);
   auto x = Kokkos::create_mirror_view(ps.x);
   auto hs = Kokkos::create_mirror_view(ps.halfSize);
   auto v = Kokkos::create_mirror_view(ps.v);
@@ -117,6 +168,11 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearEla
     hs(p, 1) = pt.ly;
     v(p, 0) = body.velocityX;
     v(p, 1) = body.velocityY;
+    if (g.dim == 3) {
+      x(p, 2) = pt.z;
+      hs(p, 2) = pt.lz;
+      v(p, 2) = body.velocityZ;
+    }
     m(p) = materials.density(body.material) * pt.volume;
     V0(p) = pt.volume;
     bodyId(p) = mine[p]->body;

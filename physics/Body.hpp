@@ -20,15 +20,21 @@ namespace impm {
 // each with its Gauss weight times the Jacobian as volume.
 enum class Placement { Lattice, GaussQ4, GaussQ9 };
 
-// An axis-aligned rectangle of material (its faces carry constraints and tractions).
+// An axis-aligned rectangle (3D: box) of material (its faces carry constraints and tractions).
 struct RectangularBody {
   double xMin = 0, xMax = 1, yMin = 0, yMax = 1;
   int particlesPerCellX = 2, particlesPerCellY = 2;
-  double thickness = 1.0;  // out of plane
+  double thickness = 1.0;  // out of plane (2D)
   Placement placement = Placement::Lattice;
+  // 3D only (last, so that 2D aggregate initialisers keep their meaning).
+  double zMin = 0, zMax = 1;
+  int particlesPerCellZ = 2;
 
   double length() const { return xMax - xMin; }
   double height() const { return yMax - yMin; }
+  double depth() const { return zMax - zMin; }
+  double lo(int d) const { return d == 0 ? xMin : d == 1 ? yMin : zMin; }
+  double hi(int d) const { return d == 0 ? xMax : d == 1 ? yMax : zMax; }
 };
 
 struct BodySpec {
@@ -38,10 +44,11 @@ struct BodySpec {
   RectangularBody rect;                    // extents and particles per cell (all shapes use its ppc)
   std::string particlesFile;               // Particles File bodies
   int material = 0;                        // index into the material table
-  double velocityX = 0, velocityY = 0;     // initial velocity
+  double velocityX = 0, velocityY = 0, velocityZ = 0;  // initial velocity
 };
 
-// The particles of all bodies that lie in this rank's cell columns. Where shapes overlap, a
+// The particles of all bodies that lie in this rank's cell columns, in the grid's dimension (3D:
+// Rectangle bodies are boxes with Z Min, Z Max; Ellipse and Polygon are 2D shapes). Where shapes overlap, a
 // body's particles replace those of the bodies listed before it inside its shape (an
 // inclusion is written after the plate it sits in). Throws std::invalid_argument naming the
 // body when one has no particle inside the grid.

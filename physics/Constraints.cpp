@@ -6,29 +6,38 @@
 
 namespace impm {
 
-std::vector<std::pair<int, int>> faceNodes(const StructuredGrid& g, const RectangularBody& body, const std::string& face) {
-  auto col = [&](double x) { return (int)std::lround((x - g.x0) / g.hx); };
-  auto row = [&](double y) { return (int)std::lround((y - g.y0) / g.hy); };
-  std::vector<std::pair<int, int>> nodes;
-  if (face == "x-" || face == "x+") {
-    const int i = col(face == "x-" ? body.xMin : body.xMax);
-    for (int j = row(body.yMin); j <= row(body.yMax); ++j) nodes.emplace_back(i, j);
-  } else if (face == "y-" || face == "y+") {
-    const int j = row(face == "y-" ? body.yMin : body.yMax);
-    for (int i = col(body.xMin); i <= col(body.xMax); ++i) nodes.emplace_back(i, j);
-  } else {
+std::vector<NodeIndex> faceNodes(const StructuredGrid& g, const RectangularBody& body, const std::string& face) {
+  if (face.size() != 2 || (face[1] != '-' && face[1] != '+') || face[0] < 'x' || face[0] >= 'x' + g.dim)
     throw std::invalid_argument("unknown face '" + face + "'");
+  const int normal = face[0] - 'x';
+  const bool high = face[1] == '+';
+  auto index = [&](int d, double c) { return (int)std::lround((c - g.origin(d)) / g.spacing(d)); };
+  int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (int d = 0; d < g.dim; ++d) {
+    lo[d] = index(d, body.lo(d));
+    hi[d] = index(d, body.hi(d));
   }
+  lo[normal] = hi[normal] = high ? hi[normal] : lo[normal];
+  std::vector<NodeIndex> nodes;
+  for (int i = lo[0]; i <= hi[0]; ++i)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int k = lo[2]; k <= hi[2]; ++k) nodes.push_back({i, j, k});
   return nodes;
 }
 
-std::vector<std::pair<int, int>> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax) {
-  const double tx = 1e-9 * g.hx, ty = 1e-9 * g.hy;
-  const int i0 = std::max(0, (int)std::ceil((xMin - tx - g.x0) / g.hx)), i1 = std::min(g.nx, (int)std::floor((xMax + tx - g.x0) / g.hx));
-  const int j0 = std::max(0, (int)std::ceil((yMin - ty - g.y0) / g.hy)), j1 = std::min(g.ny, (int)std::floor((yMax + ty - g.y0) / g.hy));
-  std::vector<std::pair<int, int>> nodes;
-  for (int i = i0; i <= i1; ++i)
-    for (int j = j0; j <= j1; ++j) nodes.emplace_back(i, j);
+std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax, double zMin,
+                                double zMax) {
+  const double lo[3] = {xMin, yMin, zMin}, hi[3] = {xMax, yMax, zMax};
+  int first[3] = {0, 0, 0}, last[3] = {0, 0, 0};
+  for (int d = 0; d < g.dim; ++d) {
+    const double h = g.spacing(d), t = 1e-9 * h;
+    first[d] = std::max(0, (int)std::ceil((lo[d] - t - g.origin(d)) / h));
+    last[d] = std::min(g.cells(d), (int)std::floor((hi[d] + t - g.origin(d)) / h));
+  }
+  std::vector<NodeIndex> nodes;
+  for (int i = first[0]; i <= last[0]; ++i)
+    for (int j = first[1]; j <= last[1]; ++j)
+      for (int k = first[2]; k <= last[2]; ++k) nodes.push_back({i, j, k});
   return nodes;
 }
 
@@ -37,14 +46,16 @@ NodalConstraints::NodalConstraints(const std::vector<ConstraintSpec>& specs, con
   const LocalNodeIndexer& owned = dist.ownedIndexer();
   std::vector<int> nodes, comps;
   for (const auto& s : specs) {
-    std::vector<std::pair<int, int>> ij;
-    if (s.where == "Face") ij = faceNodes(g, s.body, s.face);
-    else if (s.where == "Box") ij = boxNodes(g, s.xMin, s.xMax, s.yMin, s.yMax);
-    else ij.emplace_back((int)std::lround((s.x - g.x0) / g.hx), (int)std::lround((s.y - g.y0) / g.hy));
-    for (auto [i, j] : ij) {
-      if (!owned.contains(i, j)) continue;
-      if (s.fixX) { nodes.push_back(owned(i, j)); comps.push_back(0); }
-      if (s.fixY) { nodes.push_back(owned(i, j)); comps.push_back(1); }
+    std::vector<NodeIndex> ijk;
+    if (s.where == "Face") ijk = faceNodes(g, s.body, s.face);
+    else if (s.where == "Box") ijk = boxNodes(g, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
+    else
+      ijk.push_back({(int)std::lround((s.x - g.x0) / g.hx), (int)std::lround((s.y - g.y0) / g.hy),
+                     g.dim == 3 ? (int)std::lround((s.z - g.z0) / g.hz) : 0});
+    for (auto [i, j, k] : ijk) {
+      if (!owned.contains(i, j, k)) continue;
+      for (int d = 0; d < g.dim; ++d)
+        if (s.fixes(d)) { nodes.push_back(owned(i, j, k)); comps.push_back(d); }
     }
   }
   node_ = Kokkos::View<int*, DeviceType>("constraint_nodes", nodes.size());

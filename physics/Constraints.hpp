@@ -2,6 +2,7 @@
 // one owned node to zero.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -15,11 +16,12 @@ namespace impm {
 struct ConstraintSpec {
   std::string name;
   std::string where;    // "Face", "Node" or "Box"
-  std::string face;     // x-, x+, y-, y+ (Face)
+  std::string face;     // x-, x+, y-, y+ (3D: also z-, z+) (Face)
   RectangularBody body; // the body whose face it is (Face)
-  double x = 0, y = 0;  // the node (Node)
-  double xMin = 0, xMax = 0, yMin = 0, yMax = 0;  // the box, edges included (Box)
-  bool fixX = false, fixY = false;
+  double x = 0, y = 0, z = 0;  // the node (Node)
+  double xMin = 0, xMax = 0, yMin = 0, yMax = 0, zMin = 0, zMax = 0;  // the box, edges included (Box)
+  bool fixX = false, fixY = false, fixZ = false;
+  bool fixes(int d) const { return d == 0 ? fixX : d == 1 ? fixY : fixZ; }
 
   static ConstraintSpec onFace(const std::string& name, const RectangularBody& body, const std::string& face, bool fixX,
                                bool fixY) {
@@ -34,19 +36,22 @@ struct ConstraintSpec {
   }
 };
 
-// Grid nodes (global i, j) inside a box, edges included (to round-off).
-std::vector<std::pair<int, int>> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax);
+using NodeIndex = std::array<int, 3>;  // global (i, j, k); k = 0 in 2D
 
-// Grid nodes on a face of the body (global i, j), within the body's extent along the face.
-std::vector<std::pair<int, int>> faceNodes(const StructuredGrid& g, const RectangularBody& body, const std::string& face);
+// Grid nodes inside a box, edges included (to round-off); the z range is ignored in 2D.
+std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax,
+                                double zMin = 0, double zMax = 0);
+
+// Grid nodes on a face of the body, within the body's extent along the face.
+std::vector<NodeIndex> faceNodes(const StructuredGrid& g, const RectangularBody& body, const std::string& face);
 
 class NodalConstraints {
  public:
   NodalConstraints() = default;
   NodalConstraints(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist);
 
-  // Zero the constrained components of two-component fields stored in columns col, col+1
-  // of an owned grid view (used for velocity, acceleration and displacement).
+  // Zero the constrained components of vector fields stored in columns col.. (one per
+  // dimension) of an owned grid view (used for velocity, acceleration and displacement).
   template <class ExecSpace, class GridView>
   void apply(const GridView& owned, int col) const {
     auto node = node_; auto comp = comp_;

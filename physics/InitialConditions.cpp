@@ -11,7 +11,7 @@ void applyStandingWaveVelocity(ParticleSet& particles, double xMin, double lengt
   Kokkos::parallel_for(
       "standing_wave_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, particles.count), KOKKOS_LAMBDA(int p) {
         v(p, 0) = amplitude * std::sin(k * (x0(p, 0) - xMin));
-        v(p, 1) = 0.0;
+        for (int d = 1; d < (int)v.extent(1); ++d) v(p, d) = 0.0;
       });
   Kokkos::fence();
 }

@@ -43,7 +43,7 @@ double faceShare(bool quadratic, int node, double xc, double h, double lo, doubl
 
 LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dist, const std::vector<long long>& particleIds,
                  int bodyCount, bool quadraticElements)
-    : specs_(specs), bodyCount_(bodyCount) {
+    : specs_(specs), bodyCount_(bodyCount), dim_(dist.grid().dim) {
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
   std::vector<int> nodes, loads;
@@ -52,15 +52,21 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dis
     const LoadSpec& s = specs[l];
     if (s.type == "Face Traction") {
       const RectangularBody& body = s.body;
-      const bool vertical = (s.face == "x-" || s.face == "x+");
-      for (auto [i, j] : faceNodes(g, body, s.face)) {
-        const double w = vertical ? faceShare(quadraticElements, j, g.nodeY(j), g.hy, body.yMin, body.yMax)
-                                  : faceShare(quadraticElements, i, g.nodeX(i), g.hx, body.xMin, body.xMax);
-        if (owned.contains(i, j) && w > 0) { nodes.push_back(owned(i, j)); loads.push_back((int)l); weights.push_back(w); }
+      const int normal = s.face[0] - 'x';
+      for (auto [i, j, k] : faceNodes(g, body, s.face)) {
+        // The product of the 1D shares along the face's directions.
+        const int index[3] = {i, j, k};
+        double w = 1.0;
+        for (int d = 0; d < g.dim; ++d)
+          if (d != normal)
+            w *= faceShare(quadraticElements, index[d], g.origin(d) + index[d] * g.spacing(d), g.spacing(d), body.lo(d),
+                           body.hi(d));
+        if (owned.contains(i, j, k) && w > 0) { nodes.push_back(owned(i, j, k)); loads.push_back((int)l); weights.push_back(w); }
       }
     } else if (s.type == "Node Force") {
       const int i = (int)std::lround((s.x - g.x0) / g.hx), j = (int)std::lround((s.y - g.y0) / g.hy);
-      if (owned.contains(i, j)) { nodes.push_back(owned(i, j)); loads.push_back((int)l); weights.push_back(1.0); }
+      const int k = g.dim == 3 ? (int)std::lround((s.z - g.z0) / g.hz) : 0;
+      if (owned.contains(i, j, k)) { nodes.push_back(owned(i, j, k)); loads.push_back((int)l); weights.push_back(1.0); }
     } else if (s.type == "Particle Force") {
       if (l < particleIds.size() && particleIds[l] >= 0) particleLoadIds_.emplace_back(particleIds[l], (int)l);
     } else if (s.type == "Body Force") {
@@ -75,8 +81,8 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dis
   auto hw = Kokkos::create_mirror_view(weight_);
   for (size_t k = 0; k < nodes.size(); ++k) { hn(k) = nodes[k]; hl(k) = loads[k]; hw(k) = weights[k]; }
   Kokkos::deep_copy(node_, hn); Kokkos::deep_copy(load_, hl); Kokkos::deep_copy(weight_, hw);
-  nodalForce_ = decltype(nodalForce_)("load_force", specs.size());
-  bodyAcceleration_ = decltype(bodyAcceleration_)("body_acceleration", bodyCount);
+  nodalForce_ = decltype(nodalForce_)("load_force", specs.size(), dim_);
+  bodyAcceleration_ = decltype(bodyAcceleration_)("body_acceleration", bodyCount, dim_);
 }
 
 void LoadSet::locateParticles(const ParticleSet& ps) {
@@ -92,10 +98,10 @@ void LoadSet::locateParticles(const ParticleSet& ps) {
   auto hp = Kokkos::create_mirror_view(particle_);
   for (size_t k = 0; k < parts.size(); ++k) hp(k) = parts[k];
   Kokkos::deep_copy(particle_, hp);
-  particleForce_ = decltype(particleForce_)("particle_force", parts.size());
+  particleForce_ = decltype(particleForce_)("particle_force", parts.size(), dim_);
 }
 
-Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> LoadSet::bodyAccelerations(double t) const {
+Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> LoadSet::bodyAccelerations(double t) const {
   auto h = Kokkos::create_mirror_view(bodyAcceleration_);
   Kokkos::deep_copy(h, 0.0);
   for (int l : bodyForceLoads_) {
@@ -103,8 +109,7 @@ Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> LoadSet::bodyAccelera
     const double f = s.time(t);
     for (int b = 0; b < bodyCount_; ++b)
       if (s.bodyIndex < 0 || s.bodyIndex == b) {
-        h(b, 0) += s.accelerationX * f;
-        h(b, 1) += s.accelerationY * f;
+        for (int d = 0; d < dim_; ++d) h(b, d) += s.acceleration(d) * f;
       }
   }
   Kokkos::deep_copy(bodyAcceleration_, h);
@@ -115,19 +120,17 @@ void LoadSet::updateMagnitudes(double t) const {
   auto h = Kokkos::create_mirror_view(nodalForce_);
   for (size_t l = 0; l < specs_.size(); ++l) {
     const double f = specs_[l].time(t);
-    h(l, 0) = specs_[l].forceX * f;
-    h(l, 1) = specs_[l].forceY * f;
+    for (int d = 0; d < dim_; ++d) h(l, d) = specs_[l].force(d) * f;
   }
   Kokkos::deep_copy(nodalForce_, h);
 }
 
-Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> LoadSet::particleForces(double t) const {
+Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> LoadSet::particleForces(double t) const {
   auto h = Kokkos::create_mirror_view(particleForce_);
   for (size_t k = 0; k < particleLoad_.size(); ++k) {
     const LoadSpec& s = specs_[particleLoad_[k]];
     const double f = s.time(t);
-    h(k, 0) = s.forceX * f;
-    h(k, 1) = s.forceY * f;
+    for (int d = 0; d < dim_; ++d) h(k, d) = s.force(d) * f;
   }
   Kokkos::deep_copy(particleForce_, h);
   return particleForce_;

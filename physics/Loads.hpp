@@ -1,5 +1,5 @@
 // External loads with a time function: total forces applied as consistent nodal forces on a
-// face of a rectangular body, at a grid node, or carried by the particle nearest a point; and
+// face of a rectangular body (3D: box), at a grid node, or carried by the particle nearest a point; and
 // body forces (an acceleration such as gravity) on the particles of one body or of all.
 #pragma once
 
@@ -27,9 +27,11 @@ struct LoadSpec {
   std::string face;  // for Face Traction
   RectangularBody body;  // the body whose face carries a Face Traction
   int bodyIndex = -1;    // Body Force: the body (-1: every body)
-  double x = 0, y = 0;
-  double forceX = 0, forceY = 0;  // total force (N)
-  double accelerationX = 0, accelerationY = 0;  // Body Force (m/s^2)
+  double x = 0, y = 0, z = 0;
+  double forceX = 0, forceY = 0, forceZ = 0;  // total force (N)
+  double accelerationX = 0, accelerationY = 0, accelerationZ = 0;  // Body Force (m/s^2)
+  double force(int d) const { return d == 0 ? forceX : d == 1 ? forceY : forceZ; }
+  double acceleration(int d) const { return d == 0 ? accelerationX : d == 1 ? accelerationY : accelerationZ; }
   TimeFunction time;
 
   static LoadSpec faceTraction(const std::string& name, const RectangularBody& body, const std::string& face,
@@ -52,34 +54,34 @@ class LoadSet {
   // Finds this rank's particles of the Particle Force loads by global id.
   void locateParticles(const ParticleSet& ps);
 
-  // Adds the nodal forces at time t into columns col, col+1 of an owned grid view.
+  // Adds the nodal forces at time t into columns col.. (one per dimension) of an owned grid view.
   template <class ExecSpace, class GridView>
   void applyNodal(const GridView& owned, int col, double t) const {
     updateMagnitudes(t);
     auto node = node_; auto load = load_; auto w = weight_; auto f = nodalForce_;
+    const int dim = dim_;
     Kokkos::parallel_for(
         "nodal_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          owned(node(k), col) += w(k) * f(load(k), 0);
-          owned(node(k), col + 1) += w(k) * f(load(k), 1);
+          for (int d = 0; d < dim; ++d) owned(node(k), col + d) += w(k) * f(load(k), d);
         });
   }
   // Particle-carried forces at time t: indices of the particles and their forces.
   Kokkos::View<int*, DeviceType> particleIndices() const { return particle_; }
-  Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> particleForces(double t) const;
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> particleForces(double t) const;
   bool hasParticleForces() const { return particle_.extent(0) > 0; }
   bool hasBodyForces() const { return hasBodyForces_; }
   // Body-force acceleration of each body at time t.
-  Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> bodyAccelerations(double t) const;
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> bodyAccelerations(double t) const;
 
   // Every particle-carried external force at time t (point forces and body forces m_p g),
-  // scattered into columns col, col+1 of a ghosted grid view.
-  template <class ExecSpace, class Shape, class GridView>
+  // scattered into columns col.. of a ghosted grid view.
+  template <class ExecSpace, class Shape, int Dim, class GridView>
   void scatterParticleForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                              const GridView& grid, int col, double t) const {
     if (hasParticleForces())
-      particleToGridForces<ExecSpace, Shape>(g, ix, ps, particleIndices(), particleForces(t), grid, col);
+      particleToGridForces<ExecSpace, Shape, Dim>(g, ix, ps, particleIndices(), particleForces(t), grid, col);
     if (hasBodyForces())
-      particleToGridBodyForces<ExecSpace, Shape>(g, ix, ps, bodyAccelerations(t), grid, col);
+      particleToGridBodyForces<ExecSpace, Shape, Dim>(g, ix, ps, bodyAccelerations(t), grid, col);
   }
 
  private:
@@ -87,15 +89,16 @@ class LoadSet {
   std::vector<LoadSpec> specs_;
   Kokkos::View<int*, DeviceType> node_, load_;
   Kokkos::View<double*, DeviceType> weight_;
-  mutable Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> nodalForce_;  // per load, at t
+  mutable Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> nodalForce_;  // per load, at t
   Kokkos::View<int*, DeviceType> particle_;  // local indices of the carrying particles on this rank
   std::vector<int> particleLoad_;             // their loads
   std::vector<std::pair<long long, int>> particleLoadIds_;  // (global id, load) of every Particle Force
-  mutable Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> particleForce_;
+  mutable Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> particleForce_;
   std::vector<int> bodyForceLoads_;
   int bodyCount_ = 0;
+  int dim_ = 2;
   bool hasBodyForces_ = false;
-  mutable Kokkos::View<double* [2], Kokkos::LayoutRight, DeviceType> bodyAcceleration_;
+  mutable Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> bodyAcceleration_;
 };
 
 }  // namespace impm

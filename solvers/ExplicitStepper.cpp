@@ -6,90 +6,90 @@
 
 namespace impm {
 
-template <class Shape>
-ExplicitStepper<Shape>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
+template <class Shape, int Dim>
+ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
                                         const LinearElastic& material, const NodalConstraints& constraints,
                                         const LoadSet& loads, const ExplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), fields_(dist),
+    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), fields_(dist, A::Count, K::Count),
       projection_(dist) {
   // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
 }
 
-template <class Shape>
-std::string ExplicitStepper<Shape>::name() const {
+template <class Shape, int Dim>
+std::string ExplicitStepper<Shape, Dim>::name() const {
   const char* s = opt_.scheme == ExplicitScheme::USF ? "USF" : opt_.scheme == ExplicitScheme::USL ? "USL" : "MUSL";
   return std::string("explicit ") + Shape::name + " " + s;
 }
 
-template <class Shape>
-void ExplicitStepper<Shape>::particleToGridMomentum() {
+template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::particleToGridMomentum() {
   PhaseTimer phase("p2g");
   fields_.accumGhosted->putScalar(0.0);
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
-  particleToGridMassMomentum<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::Mass, accum::MomX);
+  particleToGridMassMomentum<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass, A::MomX);
 }
 
-template <class Shape>
-void ExplicitStepper<Shape>::particleToGridForces(double t, bool withMomentum) {
+template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::particleToGridForces(double t, bool withMomentum) {
   PhaseTimer phase("p2g");
   if (withMomentum) fields_.accumGhosted->putScalar(0.0);
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
   if (withMomentum)
-    particleToGridMomentumAndForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::Mass,
-                                                accum::MomX, accum::FintX);
+    particleToGridMomentumAndForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass,
+                                                A::MomX, A::FintX);
   else
-    accumulateInternalForce<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, accum::FintX);
-  loads_.template scatterParticleForces<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::FextX, t);
+    accumulateInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, A::FintX);
+  loads_.template scatterParticleForces<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::FextX, t);
 }
 
-template <class Shape>
-void ExplicitStepper<Shape>::gridUpdate(double dt, bool withForces) {
+template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
   PhaseTimer phase("grid update");
   auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto kinv = fields_.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
   const double cutoff = massCutoff_;
   Kokkos::parallel_for(
       "grid_update", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-        const double m = acc(n, accum::Mass);
+        const double m = acc(n, A::Mass);
         if (m <= cutoff) {
-          for (int c = 0; c < kin::Count; ++c) kinv(n, c) = 0.0;
+          for (int c = 0; c < K::Count; ++c) kinv(n, c) = 0.0;
           return;
         }
-        for (int d = 0; d < 2; ++d) {
-          const double v = acc(n, accum::MomX + d) / m;
-          const double a = withForces ? (acc(n, accum::FintX + d) + acc(n, accum::FextX + d)) / m : 0.0;
-          kinv(n, kin::VelX + d) = v + dt * a;
-          kinv(n, kin::AccX + d) = a;
+        for (int d = 0; d < Dim; ++d) {
+          const double v = acc(n, A::MomX + d) / m;
+          const double a = withForces ? (acc(n, A::FintX + d) + acc(n, A::FextX + d)) / m : 0.0;
+          kinv(n, K::VelX + d) = v + dt * a;
+          kinv(n, K::AccX + d) = a;
         }
       });
   // A fixed component has zero velocity and zero acceleration.
-  bc_.template apply<Exec>(kinv, kin::VelX);
-  bc_.template apply<Exec>(kinv, kin::AccX);
+  bc_.template apply<Exec>(kinv, K::VelX);
+  bc_.template apply<Exec>(kinv, K::AccX);
 }
 
 // See solvers/ProjectionCorrection.hpp: v += M_L^-1 (p - M_C v) on the momentum sums.
-template <class Shape>
-void ExplicitStepper<Shape>::correctProjection() {
+template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::correctProjection() {
   PhaseTimer phase("projection correction");
-  projection_.apply(*fields_.accumOwned, accum::Mass, accum::MomX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
+  projection_.apply(*fields_.accumOwned, A::Mass, A::MomX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
 }
 
-template <class Shape>
-void ExplicitStepper<Shape>::stressFromGhostedVelocity(double dt, bool fromAccum) {
+template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::stressFromGhostedVelocity(double dt, bool fromAccum) {
   PhaseTimer phase("stress update");
   if (fromAccum) {
     auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, accum::MomX);
+    gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::MomX);
   } else {
     auto grid = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, kin::VelX);
+    gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, K::VelX);
   }
-  updateStress<Exec>(ps_, mat_.law(), dt);
+  updateStress<Exec, Dim>(ps_, mat_.law(), dt);
 }
 
-template <class Shape>
-void ExplicitStepper<Shape>::step(double t, double dt) {
+template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
   const StructuredGrid& g = dist_.grid();
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
 
@@ -108,7 +108,7 @@ void ExplicitStepper<Shape>::step(double t, double dt) {
   correctProjection();
   {
     auto owned = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    loads_.template applyNodal<Exec>(owned, accum::FextX, t);
+    loads_.template applyNodal<Exec>(owned, A::FextX, t);
   }
   gridUpdate(dt, true);
   fields_.importKinematics();
@@ -118,7 +118,7 @@ void ExplicitStepper<Shape>::step(double t, double dt) {
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
     const bool usl = opt_.scheme == ExplicitScheme::USL;
     // USL: the stress update from grad v^{n+1} runs inside g2p.
-    gridToParticleExplicit<Exec, Shape>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
+    gridToParticleExplicit<Exec, Shape, Dim>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
                                         mat_.law(), usl);
   }
   if (opt_.scheme == ExplicitScheme::MUSL) {
@@ -131,20 +131,21 @@ void ExplicitStepper<Shape>::step(double t, double dt) {
       const double cutoff = massCutoff_;
       Kokkos::parallel_for(
           "musl_velocity", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-            const double m = acc(n, accum::Mass);
-            acc(n, accum::MomX) = m > cutoff ? acc(n, accum::MomX) / m : 0.0;
-            acc(n, accum::MomY) = m > cutoff ? acc(n, accum::MomY) / m : 0.0;
+            const double m = acc(n, A::Mass);
+            for (int d = 0; d < Dim; ++d) acc(n, A::MomX + d) = m > cutoff ? acc(n, A::MomX + d) / m : 0.0;
           });
-      bc_.template apply<Exec>(acc, accum::MomX);
+      bc_.template apply<Exec>(acc, A::MomX);
     }
     fields_.accumGhosted->doImport(*fields_.accumOwned, *dist_.importer(), Tpetra::INSERT);
     stressFromGhostedVelocity(dt, true);
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    interpolateToParticles<Exec, Shape>(g, gix, ps_, kinv, kin::VelX, ps_.x, dt, true);
+    interpolateToParticles<Exec, Shape, Dim>(g, gix, ps_, kinv, K::VelX, ps_.x, dt, true);
   }
 }
 
-template class ExplicitStepper<LinearMpm>;
-template class ExplicitStepper<UniformGimp>;
+template class ExplicitStepper<LinearMpm, 2>;
+template class ExplicitStepper<UniformGimp, 2>;
+template class ExplicitStepper<LinearMpm, 3>;
+template class ExplicitStepper<UniformGimp, 3>;
 
 }  // namespace impm

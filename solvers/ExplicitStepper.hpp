@@ -19,7 +19,7 @@ namespace impm {
 enum class ExplicitScheme { USF, USL, MUSL };
 
 // The explicit step impm accepts: Stability Factor (<= 1) x kTransferStabilityFraction x the
-// critical step of lumped bilinear cells, 1 / (c_p sqrt(1/hx^2 + 1/hy^2)). The particle
+// critical step of lumped bilinear cells, 1 / (c_p sqrt(1/hx^2 + 1/hy^2)) (3D: + 1/hz^2). The particle
 // transfers and the projection correction lower the real limit below the cells' own (which is
 // 1.09-1.12 times that formula): measured by apps/stability_study.py over every scheme impm
 // offers (USF, USL, MUSL; 0 or 1 projection iterations; 1, 2, 4 particles per cell; 2:1 and
@@ -36,7 +36,7 @@ struct ExplicitOptions {
   int projectionIterations = 0;
 };
 
-template <class Shape>
+template <class Shape, int Dim = 2>
 class ExplicitStepper : public Integrator {
  public:
   ExplicitStepper(ParticleSet& particles, const GridDistribution& dist, const LinearElastic& material,
@@ -47,6 +47,8 @@ class ExplicitStepper : public Integrator {
 
  private:
   using Exec = ExecutionSpace;
+  using A = AccumColumns<Dim>;
+  using K = KinColumns<Dim>;
   // Velocity (and acceleration when withForces) on owned nodes from the summed grid fields.
   void gridUpdate(double dt, bool withForces);
   void particleToGridMomentum();
@@ -61,7 +63,7 @@ class ExplicitStepper : public Integrator {
   const LoadSet& loads_;
   ExplicitOptions opt_;
   GridFields fields_;
-  ProjectionCorrection<Shape> projection_;
+  ProjectionCorrection<Shape, Dim> projection_;
   double massCutoff_ = 0.0;
 };
 

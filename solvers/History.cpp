@@ -29,7 +29,7 @@ void History::open(const std::string& path) {
     csv_ << ',' << monitors_[k].name;
     if (withExact_[k]) csv_ << ',' << monitors_[k].name << "_exact";
   }
-  if (energy_) csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y";
+  if (energy_) csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y" << (particles_.dim == 3 ? ",momentum_z" : "");
   csv_ << '\n' << std::setprecision(10);
 }
 
@@ -47,13 +47,17 @@ double History::monitorValue(const Monitor& mon) const {
   };
   const std::string& q = mon.quantity;
   const bool fixed = particles_.fixedPositions();
-  if (q == "Displacement X") return fixed ? read(particles_.u, p, 0) : read(particles_.x, p, 0) - mon.x0;
-  if (q == "Displacement Y") return fixed ? read(particles_.u, p, 1) : read(particles_.x, p, 1) - mon.y0;
-  if (q == "Velocity X") return read(particles_.v, p, 0);
-  if (q == "Velocity Y") return read(particles_.v, p, 1);
-  if (q == "Stress XX") return read(particles_.stress, p, 0);
-  if (q == "Stress YY") return read(particles_.stress, p, 1);
-  return read(particles_.stress, p, 2);
+  const double reference[3] = {mon.x0, mon.y0, mon.z0};
+  for (int d = 0; d < particles_.dim; ++d) {
+    const std::string axis(1, char('X' + d));
+    if (q == "Displacement " + axis) return fixed ? read(particles_.u, p, d) : read(particles_.x, p, d) - reference[d];
+    if (q == "Velocity " + axis) return read(particles_.v, p, d);
+  }
+  // Stored stress components (StressLayout): xx, yy, xy, zz, yz, xz.
+  const char* stresses[] = {"Stress XX", "Stress YY", "Stress XY", "Stress ZZ", "Stress YZ", "Stress XZ"};
+  for (int c = 0; c < particles_.stressCount(); ++c)
+    if (q == stresses[c]) return read(particles_.stress, p, c);
+  throw std::logic_error("monitor quantity '" + q + "' is not one of this dimension's");
 }
 
 void History::record(double t, RunResult& r) {
@@ -75,13 +79,18 @@ void History::record(double t, RunResult& r) {
     }
   }
   if (energy_) {
-    const ParticleTotals e = particleTotals<ExecutionSpace>(particles_, materials_.law(), *comm_);
+    const ParticleTotals e = particles_.dim == 3 ? particleTotals<ExecutionSpace, 3>(particles_, materials_.law(), *comm_)
+                                                 : particleTotals<ExecutionSpace, 2>(particles_, materials_.law(), *comm_);
     r.kinetic.push_back(e.kinetic);
     r.strain.push_back(e.strain);
     r.momentumX.push_back(e.momentum[0]);
     r.momentumY.push_back(e.momentum[1]);
+    r.momentumZ.push_back(e.momentum[2]);
     if (r.time.size() == 1) momentumScale_ = e.momentumScale;
-    if (root) csv_ << ',' << e.kinetic << ',' << e.strain << ',' << e.total() << ',' << e.momentum[0] << ',' << e.momentum[1];
+    if (root) {
+      csv_ << ',' << e.kinetic << ',' << e.strain << ',' << e.total() << ',' << e.momentum[0] << ',' << e.momentum[1];
+      if (particles_.dim == 3) csv_ << ',' << e.momentum[2];
+    }
   }
   if (root) csv_ << '\n';
 }
@@ -99,13 +108,15 @@ void History::finish(RunResult& r) const {
     const double e0 = r.kinetic.front() + r.strain.front();
     const double scale = e0 != 0 ? std::abs(e0) : 1.0;
     r.energyRelativeDrift = (r.kinetic.back() + r.strain.back() - e0) / scale;
-    const double p0x = r.momentumX.front(), p0y = r.momentumY.front();
+    const double p0x = r.momentumX.front(), p0y = r.momentumY.front(), p0z = r.momentumZ.front();
     // Bodies at rest: the change is absolute.
     const double pscale = momentumScale_ > 0 ? momentumScale_ : 1.0;
     for (size_t i = 0; i < r.time.size(); ++i) {
       r.energyMaxRelativeDeviation = std::max(r.energyMaxRelativeDeviation, std::abs(r.kinetic[i] + r.strain[i] - e0) / scale);
       r.momentumMaxRelativeChange =
-          std::max(r.momentumMaxRelativeChange, std::hypot(r.momentumX[i] - p0x, r.momentumY[i] - p0y) / pscale);
+          std::max(r.momentumMaxRelativeChange,
+                   std::sqrt(std::pow(r.momentumX[i] - p0x, 2) + std::pow(r.momentumY[i] - p0y, 2) + std::pow(r.momentumZ[i] - p0z, 2)) /
+                       pscale);
     }
   }
 }

@@ -24,7 +24,7 @@ struct Monitor {
   long long particleId = -1;  // global id of the particle
   int owner = -1;             // rank that holds the particle
   int localIndex = -1;        // its index on that rank
-  double x0 = 0, y0 = 0;      // its reference position (where the exact solution is evaluated)
+  double x0 = 0, y0 = 0, z0 = 0;  // its reference position (where the exact solution is evaluated)
 };
 
 struct RunResult {
@@ -40,7 +40,7 @@ struct RunResult {
   std::vector<double> time;                  // the recorded history
   std::map<std::string, std::vector<double>> computed, exact;
   // With Output/Energy And Momentum: per recorded time, and the drifts of summary.yaml.
-  std::vector<double> kinetic, strain, momentumX, momentumY;
+  std::vector<double> kinetic, strain, momentumX, momentumY, momentumZ;
   double energyRelativeDrift = 0, energyMaxRelativeDeviation = 0, momentumMaxRelativeChange = 0;
 };
 

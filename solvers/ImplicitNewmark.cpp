@@ -19,47 +19,54 @@
 namespace impm {
 
 namespace {
-// Columns of the implicit grid state.
-namespace st {
-enum : int { Mass = 0, VelX, VelY, AccX, AccY, FextX, FextY, FreeX, FreeY, Count };
-}
-// Columns of the displacement multivector: the step's displacement, the new acceleration and
-// the grid's velocity increment dt/2 (a + a_new).
-namespace dp {
-enum : int { UX = 0, UY, AnewX, AnewY, DvX, DvY, Count };
-}
-// Columns of the force multivectors: the force on the nodes (internal, plus external for the
-// initial acceleration) and the consistent-mass product M_C u of the residual.
-namespace fc {
-enum : int { ForceX = 0, ForceY, MassProductX, MassProductY, Count };
-}
+// Columns of the implicit grid multivectors in Dim dimensions; a vector field takes Dim
+// consecutive columns, named by its first (X) one.
+// The grid state: mass, v, a, F_ext and a flag per free component.
+template <int Dim>
+struct StateColumns {
+  static constexpr int Mass = 0, VelX = 1, AccX = 1 + Dim, FextX = 1 + 2 * Dim, FreeX = 1 + 3 * Dim, Count = 1 + 4 * Dim;
+};
+// The displacement multivector: the step's displacement, the new acceleration and the grid's
+// velocity increment dt/2 (a + a_new).
+template <int Dim>
+struct DisplacementColumns {
+  static constexpr int UX = 0, AnewX = Dim, DvX = 2 * Dim, Count = 3 * Dim;
+};
+// The force multivectors: the force on the nodes (internal, plus external for the initial
+// acceleration) and the consistent-mass product M_C u of the residual.
+template <int Dim>
+struct ForceColumns {
+  static constexpr int ForceX = 0, MassProductX = Dim, Count = 2 * Dim;
+};
 }  // namespace
 
-template <class Shape>
-ImplicitNewmark<Shape>::ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist,
+template <class Shape, int Dim>
+ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist,
                                         const LinearElastic& material, const NodalConstraints& constraints,
                                         const LoadSet& loads, const ImplicitOptions& options)
     : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), projection_(dist) {
   solver_ = std::make_unique<NewtonSolver>(opt_.solverParams);
-  stateOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), st::Count));
-  stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), st::Count));
-  dispOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), dp::Count));
-  dispGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), dp::Count));
+  stateOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), StateColumns<Dim>::Count));
+  stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), StateColumns<Dim>::Count));
+  dispOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), DisplacementColumns<Dim>::Count));
+  dispGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), DisplacementColumns<Dim>::Count));
   // Columns 0-1: internal force; 2-3: M_C u (consistent mass).
-  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), fc::Count));
-  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), fc::Count));
+  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), ForceColumns<Dim>::Count));
+  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), ForceColumns<Dim>::Count));
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
   seedGimpStiffness_ = std::is_same<Shape, UniformGimp>::value && opt_.seedGimpStiffness;
+  if (seedGimpStiffness_ && Dim == 3)
+    throw std::invalid_argument("'Integrator/Implicit/GIMP Stiffness' = Integrated (the seed's overlap integrals) is 2D only; use Consistent in 3D");
   blockNodes_ = seedGimpStiffness_ ? 2 : Shape::max_nodes_1d;
   blockStride_ = std::is_same<Shape, QuadraticLagrange>::value ? 2 : 1;
   if (opt_.fixedParticles) {
-    gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 4));
-    if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ParticleSet::Vec2("u", ps_.count);
+    gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * Dim));
+    if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ps_.newVector("u");
   }
 }
 
-template <class Shape>
-ImplicitNewmark<Shape>::~ImplicitNewmark() = default;
+template <class Shape, int Dim>
+ImplicitNewmark<Shape, Dim>::~ImplicitNewmark() = default;
 
 namespace {
 std::string describe(const Teuchos::ParameterList& p) {
@@ -69,14 +76,16 @@ std::string describe(const Teuchos::ParameterList& p) {
 }
 }  // namespace
 
-template <class Shape>
-std::string ImplicitNewmark<Shape>::name() const {
- const std::string method = opt_.fixedParticles ? (Shape::max_nodes_1d == 3 ? "FE Q9" : "FE Q4") : Shape::name;
+template <class Shape, int Dim>
+std::string ImplicitNewmark<Shape, Dim>::name() const {
+  const std::string method = opt_.fixedParticles ? (Dim == 3 ? (Shape::max_nodes_1d == 3 ? "FE Hex27" : "FE Hex8")
+                                                             : (Shape::max_nodes_1d == 3 ? "FE Q9" : "FE Q4"))
+                                                  : Shape::name;
   return std::string("implicit ") + method + " Newmark (" + describe(solver_->parameters()) + ")";
 }
 
-template <class Shape>
-void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::setUpStep(double t, double dt) {
   PhaseTimer phase("implicit step set-up (p2g)");
   dt_ = dt;
   const StructuredGrid& g = dist_.grid();
@@ -84,8 +93,8 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
   stateGhosted_->putScalar(0.0);
   {
     auto grid = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    particleToGridMassMomentum<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, grid, st::Mass, st::VelX, st::AccX);
-    loads_.template scatterParticleForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, grid, st::FextX, t + dt);
+    particleToGridMassMomentum<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, StateColumns<Dim>::Mass, StateColumns<Dim>::VelX, StateColumns<Dim>::AccX);
+    loads_.template scatterParticleForces<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, StateColumns<Dim>::FextX, t + dt);
   }
   stateOwned_->putScalar(0.0);
   stateOwned_->doExport(*stateGhosted_, *dist_.importer(), Tpetra::ADD);
@@ -98,13 +107,13 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
     forceGhosted_->putScalar(0.0);
     {
       auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-      accumulateInternalForce<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, fc::ForceX);
-      loads_.template scatterParticleForces<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, f, fc::ForceX, t);
+      accumulateInternalForce<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, ForceColumns<Dim>::ForceX);
+      loads_.template scatterParticleForces<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, f, ForceColumns<Dim>::ForceX, t);
     }
     forceOwned_->putScalar(0.0);
     forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
     auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    loads_.template applyNodal<Exec>(f, fc::ForceX, t);
+    loads_.template applyNodal<Exec>(f, ForceColumns<Dim>::ForceX, t);
   }
   firstStep_ = false;
 
@@ -117,10 +126,10 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
     auto k = gridKinematics_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     Kokkos::parallel_for(
         "grid_state_from_last_step", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
-          const double m = s(n, st::Mass);
-          for (int d = 0; d < 2; ++d) {
-            s(n, st::VelX + d) = m * k(n, d);
-            s(n, st::AccX + d) = m * k(n, 2 + d);
+          const double m = s(n, StateColumns<Dim>::Mass);
+          for (int d = 0; d < Dim; ++d) {
+            s(n, StateColumns<Dim>::VelX + d) = m * k(n, d);
+            s(n, StateColumns<Dim>::AccX + d) = m * k(n, Dim + d);
           }
         });
   } else if (!initialAcceleration && !opt_.consistentMass) {
@@ -130,32 +139,32 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
   }
   {
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    loads_.template applyNodal<Exec>(s, st::FextX, t + dt);
+    loads_.template applyNodal<Exec>(s, StateColumns<Dim>::FextX, t + dt);
     auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     const double cutoff = massCutoff_;
     Kokkos::parallel_for(
         "implicit_grid_state", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
-          const double m = s(n, st::Mass);
+          const double m = s(n, StateColumns<Dim>::Mass);
           const bool massive = m > cutoff;
-          for (int d = 0; d < 2; ++d) {
-            s(n, st::VelX + d) = massive ? s(n, st::VelX + d) / m : 0.0;
-            s(n, st::AccX + d) = massive ? (accelerationFromForces ? f(n, fc::ForceX + d) / m : s(n, st::AccX + d) / m) : 0.0;
-            s(n, st::FreeX + d) = massive ? 1.0 : 0.0;
+          for (int d = 0; d < Dim; ++d) {
+            s(n, StateColumns<Dim>::VelX + d) = massive ? s(n, StateColumns<Dim>::VelX + d) / m : 0.0;
+            s(n, StateColumns<Dim>::AccX + d) = massive ? (accelerationFromForces ? f(n, ForceColumns<Dim>::ForceX + d) / m : s(n, StateColumns<Dim>::AccX + d) / m) : 0.0;
+            s(n, StateColumns<Dim>::FreeX + d) = massive ? 1.0 : 0.0;
           }
         });
-    bc_.template apply<Exec>(s, st::VelX);
-    bc_.template apply<Exec>(s, st::AccX);
-    bc_.template apply<Exec>(s, st::FreeX);
+    bc_.template apply<Exec>(s, StateColumns<Dim>::VelX);
+    bc_.template apply<Exec>(s, StateColumns<Dim>::AccX);
+    bc_.template apply<Exec>(s, StateColumns<Dim>::FreeX);
   }
   stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
   if (initialAcceleration && opt_.consistentMass) {
     // The particles start from the grid's consistent acceleration (their own Newmark update
     // needs a_p(0)).
     auto sgv = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    interpolateToParticles<Exec, Shape>(g, dist_.ghostedIndexer(), ps_, sgv, st::AccX, ps_.a, 1.0, false);
+    interpolateToParticles<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, sgv, StateColumns<Dim>::AccX, ps_.a, 1.0, false);
   }
 
-  // Free dofs and the unknown map (gid = 2 node + component).
+  // Free dofs and the unknown map (gid = Dim node + component).
   PCurrent_ = false;
   auto s = stateOwned_->getLocalViewHost(Tpetra::Access::ReadOnly);
   const auto ownedMap = dist_.ownedNodeMap();
@@ -163,11 +172,11 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
   const std::vector<GO> previousGids = freeGids_;
   freeGids_.clear();
   for (size_t n = 0; n < s.extent(0); ++n)
-    for (int d = 0; d < 2; ++d)
-      if (s(n, st::FreeX + d) > 0.5) {
+    for (int d = 0; d < Dim; ++d)
+      if (s(n, StateColumns<Dim>::FreeX + d) > 0.5) {
         nodes.push_back((int)n);
         comps.push_back(d);
-        freeGids_.push_back(2 * ownedMap->getGlobalElement((LO)n) + d);
+        freeGids_.push_back(Dim * ownedMap->getGlobalElement((LO)n) + d);
       }
   freeNode_ = Kokkos::View<int*, DeviceType>("free_node", nodes.size());
   freeComp_ = Kokkos::View<int*, DeviceType>("free_comp", comps.size());
@@ -188,15 +197,15 @@ void ImplicitNewmark<Shape>::setUpStep(double t, double dt) {
 // The lumped projection v_i = sum m_p S_ip v_p / m_i smooths the grid state every step (by
 // M_L^-1 M_C), so that the grid does not carry on exactly from the Newmark update of the last
 // step. Jacobi iterations towards the consistent projection remove that to O((kh)^4).
-template <class Shape>
-void ImplicitNewmark<Shape>::correctProjection() {
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::correctProjection() {
   if (opt_.projectionIterations <= 0) return;
-  projection_.apply(*stateOwned_, st::Mass, st::VelX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
-  projection_.apply(*stateOwned_, st::Mass, st::AccX, ps_, ps_.a, bc_, massCutoff_, opt_.projectionIterations);
+  projection_.apply(*stateOwned_, StateColumns<Dim>::Mass, StateColumns<Dim>::VelX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
+  projection_.apply(*stateOwned_, StateColumns<Dim>::Mass, StateColumns<Dim>::AccX, ps_, ps_.a, bc_, massCutoff_, opt_.projectionIterations);
 }
 
-template <class Shape>
-void ImplicitNewmark<Shape>::scatterUnknowns(const Vector& u) {
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::scatterUnknowns(const Vector& u) {
   dispOwned_->putScalar(0.0);
   {
     auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
@@ -204,13 +213,13 @@ void ImplicitNewmark<Shape>::scatterUnknowns(const Vector& u) {
     auto node = freeNode_; auto comp = freeComp_;
     Kokkos::parallel_for(
         "scatter_unknowns", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
-        KOKKOS_LAMBDA(int k) { d(node(k), dp::UX + comp(k)) = uv(k, 0); });
+        KOKKOS_LAMBDA(int k) { d(node(k), DisplacementColumns<Dim>::UX + comp(k)) = uv(k, 0); });
   }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
 }
 
-template <class Shape>
-void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   PhaseTimer phase("residual");
   scatterUnknowns(u);
   forceGhosted_->putScalar(0.0);
@@ -223,23 +232,23 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
       const LocalNodeIndexer ix = dist_.ghostedIndexer();
       auto vol = ps_.volume; auto sig = ps_.stress; auto matId = ps_.material;
       const auto law = mat_.law();
-      scatterToGrid<Exec, Shape>(
-          "implicit_internal_force", dist_.grid(), ps_, f, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape>& st, auto& out) {
-            double l00 = 0, l01 = 0, l10 = 0, l11 = 0;
-            st.forEachNode(ix, [&](int n, double, double dx, double dy) {
-              l00 += d(n, dp::UX) * dx; l01 += d(n, dp::UX) * dy;
-              l10 += d(n, dp::UY) * dx; l11 += d(n, dp::UY) * dy;
+      scatterToGrid<Exec, Shape, Dim>(
+          "implicit_internal_force", dist_.grid(), ps_, f, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
+            double G[Dim][Dim] = {};
+            st.forEachNode(ix, [&](int n, double, const double* dw) {
+              for (int i = 0; i < Dim; ++i)
+                for (int j = 0; j < Dim; ++j) G[i][j] += d(n, DisplacementColumns<Dim>::UX + i) * dw[j];
             });
-            const double s0[4] = {sig(p, 0), sig(p, 1), sig(p, 2), sig(p, 3)};
-            double trial[4];
-            law.stress(matId(p), s0, l00, l01, l10, l11, trial);
-            scatterInternalForce(st, ix, vol(p), trial[0], trial[1], trial[2], out, fc::ForceX);
+            double trial[StressLayout<Dim>::count];
+            loadStress<Dim>(sig, p, trial);
+            law.template stress<Dim>(matId(p), trial, G, trial);
+            scatterInternalForce(st, ix, vol(p), trial, out, ForceColumns<Dim>::ForceX);
           });
     }
     if (opt_.consistentMass) {
       // M_C u = sum_p m_p S_ip u_p with u_p = sum_j S_jp u_j (consistent-mass residual only).
       auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-      particleToGridMassProduct<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX, f, fc::MassProductX);
+      particleToGridMassProduct<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DisplacementColumns<Dim>::UX, f, ForceColumns<Dim>::MassProductX);
     }
   }
   forceOwned_->putScalar(0.0);
@@ -254,16 +263,16 @@ void ImplicitNewmark<Shape>::residual(const Vector& u, Vector& R) {
   Kokkos::parallel_for(
       "implicit_residual", Kokkos::RangePolicy<Exec>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
         const int n = node(k), d = comp(k);
-        const double m = s(n, st::Mass);
+        const double m = s(n, StateColumns<Dim>::Mass);
         // f holds the internal force acting on the node (-int B^T sigma).
         // m v and m a are the particle-to-grid momentum and m a sums (lumped normalisation undone).
-        const double inertia = consistent ? c1 * f(n, fc::MassProductX + d) : m * c1 * uv(k, 0);
-        r(k, 0) = inertia - m * (c2 * s(n, st::VelX + d) + s(n, st::AccX + d)) - f(n, fc::ForceX + d) - s(n, st::FextX + d);
+        const double inertia = consistent ? c1 * f(n, ForceColumns<Dim>::MassProductX + d) : m * c1 * uv(k, 0);
+        r(k, 0) = inertia - m * (c2 * s(n, StateColumns<Dim>::VelX + d) + s(n, StateColumns<Dim>::AccX + d)) - f(n, ForceColumns<Dim>::ForceX + d) - s(n, StateColumns<Dim>::FextX + d);
       });
 }
 
-template <class Shape>
-Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vector& /*u*/) {
+template <class Shape, int Dim>
+Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const Vector& /*u*/) {
   PhaseTimer phase("stiffness assembly");
   // P = 4/dt^2 M + K, K over particle-cell pairs (exact over overlaps for GIMP). Small strain:
   // P does not depend on u, so it is assembled once per step.
@@ -281,40 +290,46 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
   const auto ghostMap = dist_.ghostedNodeMap();
   auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
-  // Blocks of the ghost region (cells, Q9 elements or GIMP 3 x 3 node patches), numbered
+  // Blocks of the ghost region (cells, Q9 elements or GIMP 3 x 3 (x 3) node patches), numbered
   // locally column by column; each couples the free dofs of its nodes.
-  const int bnx = std::min(blockNodes_, g.nx + 1), bny = std::min(blockNodes_, g.ny + 1);
-  const int stride = blockStride_, nd = 2 * bnx * bny;
+  int bn[3] = {1, 1, 1};
+  for (int d = 0; d < Dim; ++d) bn[d] = std::min(blockNodes_, g.cells(d) + 1);
+  const int bnx = bn[0], blockNodeCount = bn[0] * bn[1] * bn[2];
+  const int stride = blockStride_, nd = Dim * blockNodeCount;
   const int firstBi = ((gix.colBegin + stride - 1) / stride) * stride;
   const int blockCols = gix.colEnd - bnx >= firstBi ? (gix.colEnd - bnx - firstBi) / stride + 1 : 0;
-  const int blockRows = (g.ny + 1 - bny) / stride + 1;
-  auto blockIndex = [&](int bi, int bj) { return size_t((bi - firstBi) / stride) * blockRows + bj / stride; };
+  const int blockRows = (g.ny + 1 - bn[1]) / stride + 1;
+  const int blockLayers = Dim == 3 ? (g.nz + 1 - bn[2]) / stride + 1 : 1;
+  auto blockIndex = [&](int bi, int bj, int bk) {
+    return (size_t((bi - firstBi) / stride) * blockRows + bj / stride) * blockLayers + bk / stride;
+  };
   // Visits every (local block, r, c) coupling of two free dofs of a block.
   auto forEachBlockCoupling = [&](auto&& visit) {
     std::vector<GO> gid(nd);
     std::vector<char> freeDof(nd);
     for (int ci = 0; ci < blockCols; ++ci)
-      for (int cj = 0; cj < blockRows; ++cj) {
-        const int bi = firstBi + ci * stride, bj = cj * stride;
-        for (int a = 0; a < bnx * bny; ++a) {
-          const int ln = gix(bi + a % bnx, bj + a / bnx);
-          for (int d = 0; d < 2; ++d) {
-            gid[2 * a + d] = 2 * ghostMap->getGlobalElement(ln) + d;
-            freeDof[2 * a + d] = sg(ln, st::FreeX + d) > 0.5;
+      for (int cj = 0; cj < blockRows; ++cj)
+        for (int ck = 0; ck < blockLayers; ++ck) {
+          const int bi = firstBi + ci * stride, bj = cj * stride, bk = ck * stride;
+          for (int a = 0; a < blockNodeCount; ++a) {
+            const int ln = gix(bi + a % bn[0], bj + (a / bn[0]) % bn[1], bk + a / (bn[0] * bn[1]));
+            for (int d = 0; d < Dim; ++d) {
+              gid[Dim * a + d] = Dim * ghostMap->getGlobalElement(ln) + d;
+              freeDof[Dim * a + d] = sg(ln, StateColumns<Dim>::FreeX + d) > 0.5;
+            }
           }
+          for (int r = 0; r < nd; ++r)
+            for (int c = 0; c < nd; ++c)
+              if (freeDof[r] && freeDof[c]) visit(blockIndex(bi, bj, bk), r * nd + c, gid[r], gid[c]);
         }
-        for (int r = 0; r < nd; ++r)
-          for (int c = 0; c < nd; ++c)
-            if (freeDof[r] && freeDof[c]) visit(blockIndex(bi, bj), r * nd + c, gid[r], gid[c]);
-      }
   };
 
   // The graph depends only on the free dofs a rank sees: every block of the ghost region couples
   // its free dofs (blocks without particles just hold zeros). Rebuilt when that set changes.
   std::vector<GO> key;
   for (size_t n = 0; n < sg.extent(0); ++n)
-    for (int d = 0; d < 2; ++d)
-      if (sg(n, st::FreeX + d) > 0.5) key.push_back(2 * ghostMap->getGlobalElement((LO)n) + d);
+    for (int d = 0; d < Dim; ++d)
+      if (sg(n, StateColumns<Dim>::FreeX + d) > 0.5) key.push_back(Dim * ghostMap->getGlobalElement((LO)n) + d);
   const int sameHere = (!P_.is_null() && key == patternKey_) ? 1 : 0;
   int same = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
@@ -355,7 +370,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
       return off;
     };
     const size_t none = std::numeric_limits<size_t>::max();
-    blockOffsets_.assign(size_t(blockCols) * blockRows * nd * nd, none);
+    blockOffsets_.assign(size_t(blockCols) * blockRows * blockLayers * nd * nd, none);
     forEachBlockCoupling(
         [&](size_t block, int rc, GO row, GO col) { blockOffsets_[block * nd * nd + rc] = offsetOf(row, col); });
     diagOffsets_.clear();
@@ -371,11 +386,14 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   const double massFactor = 4.0 / (dt_ * dt_);
   const bool consistentMassInP = opt_.consistentMass && !seedGimpStiffness_;
   BlockMatrices Kb;
-  if (seedGimpStiffness_) {
-    const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, false);
-    Kb = overlapStiffness<Exec>(g, pairs, ps_, mat_.law());
-  } else {
-    Kb = stencilStiffness<Exec, Shape>(g, ps_, mat_.law(), consistentMassInP ? massFactor : 0.0);
+  if constexpr (Dim == 2) {
+    if (seedGimpStiffness_) {
+      const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, false);
+      Kb = overlapStiffness<Exec>(g, pairs, ps_, mat_.law());
+    }
+  }
+  if (!seedGimpStiffness_) {
+    Kb = stencilStiffness<Exec, Shape, Dim>(g, ps_, mat_.law(), consistentMassInP ? massFactor : 0.0);
   }
   auto O = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.origin);
   auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.K);
@@ -387,12 +405,12 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
     auto values = overlapP_->getLocalMatrixDevice().values;
     Kokkos::deep_copy(values, 0.0);
     for (int k = 0; k < Kb.count; ++k) {
-      const size_t* off = &blockOffsets_[blockIndex(O(k, 0), O(k, 1)) * nd * nd];
+      const size_t* off = &blockOffsets_[blockIndex(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0) * nd * nd];
       for (int rc = 0; rc < nd * nd; ++rc)
         if (off[rc] != none) values(off[rc]) += K(k, rc / nd, rc % nd);
     }
     if (!consistentMassInP)
-      for (size_t k = 0; k < freeGids_.size(); ++k) values(diagOffsets_[k]) += massFactor * so(hn(k), st::Mass);
+      for (size_t k = 0; k < freeGids_.size(); ++k) values(diagOffsets_[k]) += massFactor * so(hn(k), StateColumns<Dim>::Mass);
   }
   overlapP_->fillComplete(unknownMap_, unknownMap_);
   P_->resumeFill();
@@ -405,8 +423,8 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape>::jacobianMatrix(const Vecto
   return P_;
 }
 
-template <class Shape>
-void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
   PhaseTimer phase("g2p and stress update");
   scatterUnknowns(u);
   // Grid acceleration at t + dt on the free dofs (zero elsewhere).
@@ -416,11 +434,11 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
     const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_, halfDt = 0.5 * dt_;
     Kokkos::parallel_for(
         "implicit_grid_acceleration", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
-          for (int c = 0; c < 2; ++c) {
-            const bool free = s(n, st::FreeX + c) > 0.5;
-            const double aNew = free ? c1 * d(n, dp::UX + c) - c2 * s(n, st::VelX + c) - s(n, st::AccX + c) : 0.0;
-            d(n, dp::AnewX + c) = aNew;
-            d(n, dp::DvX + c) = free ? halfDt * (s(n, st::AccX + c) + aNew) : 0.0;
+          for (int c = 0; c < Dim; ++c) {
+            const bool free = s(n, StateColumns<Dim>::FreeX + c) > 0.5;
+            const double aNew = free ? c1 * d(n, DisplacementColumns<Dim>::UX + c) - c2 * s(n, StateColumns<Dim>::VelX + c) - s(n, StateColumns<Dim>::AccX + c) : 0.0;
+            d(n, DisplacementColumns<Dim>::AnewX + c) = aNew;
+            d(n, DisplacementColumns<Dim>::DvX + c) = free ? halfDt * (s(n, StateColumns<Dim>::AccX + c) + aNew) : 0.0;
           }
         });
   }
@@ -431,10 +449,10 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
     const double halfDt = 0.5 * dt_;
     Kokkos::parallel_for(
         "grid_newmark_update", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
-          for (int c = 0; c < 2; ++c) {
-            const double aNew = d(n, dp::AnewX + c);
-            k(n, c) = s(n, st::FreeX + c) > 0.5 ? s(n, st::VelX + c) + halfDt * (s(n, st::AccX + c) + aNew) : 0.0;
-            k(n, 2 + c) = aNew;
+          for (int c = 0; c < Dim; ++c) {
+            const double aNew = d(n, DisplacementColumns<Dim>::AnewX + c);
+            k(n, c) = s(n, StateColumns<Dim>::FreeX + c) > 0.5 ? s(n, StateColumns<Dim>::VelX + c) + halfDt * (s(n, StateColumns<Dim>::AccX + c) + aNew) : 0.0;
+            k(n, Dim + c) = aNew;
           }
         });
   }
@@ -442,8 +460,8 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
   // Stress from the converged displacement (weights at x_p(t)), then the particle update.
   {
     auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridGradientAtParticles<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, dp::UX);
-    updateStress<Exec>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles);
+    gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DisplacementColumns<Dim>::UX);
+    updateStress<Exec, Dim>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles);
     const StructuredGrid g = dist_.grid();
     const LocalNodeIndexer ix = dist_.ghostedIndexer();
     auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
@@ -453,39 +471,30 @@ void ImplicitNewmark<Shape>::finishStep(const Vector& u) {
     const double c1 = 4.0 / (dt * dt), c2 = 4.0 / dt;
     Kokkos::parallel_for(
         "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
-          const ParticleStencil<Shape> stn(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-          double ux = 0, uy = 0, ax = 0, ay = 0, dvx = 0, dvy = 0;
-          for (int i = 0; i < stn.countX(); ++i)
-            for (int j = 0; j < stn.countY(); ++j) {
-              const int n = ix(stn.i0 + i, stn.j0 + j);
-              const double w = stn.weight(i, j);
-              ux += w * d(n, dp::UX); uy += w * d(n, dp::UY);
-              ax += w * d(n, dp::AnewX); ay += w * d(n, dp::AnewY);
-              dvx += w * d(n, dp::DvX); dvy += w * d(n, dp::DvY);
+          const ParticleStencil<Shape, Dim> stn(g, x, hs, p);
+          using DC = DisplacementColumns<Dim>;
+          double u[Dim] = {}, an[Dim] = {}, dv[Dim] = {};
+          stn.forEachNode(ix, [&](int n, double w, const double*) {
+            for (int c = 0; c < Dim; ++c) {
+              u[c] += w * d(n, DC::UX + c);
+              an[c] += w * d(n, DC::AnewX + c);
+              dv[c] += w * d(n, DC::DvX + c);
             }
-          if (consistent) {  // the particle's own Newmark update
-            ax = c1 * ux - c2 * v(p, 0) - a(p, 0);
-            ay = c1 * uy - c2 * v(p, 1) - a(p, 1);
+          });
+          for (int c = 0; c < Dim; ++c) {
+            if (consistent) an[c] = c1 * u[c] - c2 * v(p, c) - a(p, c);  // the particle's own Newmark update
+            if (fixed) up(p, c) += u[c];  // Gauss points stay; their displacement is kept apart
+            else x(p, c) += u[c];
+            if (gridIncrement) v(p, c) += dv[c];  // the grid's own trapezoidal increment (FLIP)
+            else v(p, c) += 0.5 * dt * (a(p, c) + an[c]);
+            a(p, c) = an[c];
           }
-          if (fixed) {  // Gauss points stay; their displacement is kept apart
-            up(p, 0) += ux; up(p, 1) += uy;
-          } else {
-            x(p, 0) += ux; x(p, 1) += uy;
-          }
-          if (gridIncrement) {  // the grid's own trapezoidal increment (FLIP)
-            v(p, 0) += dvx;
-            v(p, 1) += dvy;
-          } else {
-            v(p, 0) += 0.5 * dt * (a(p, 0) + ax);
-            v(p, 1) += 0.5 * dt * (a(p, 1) + ay);
-          }
-          a(p, 0) = ax; a(p, 1) = ay;
         });
   }
 }
 
-template <class Shape>
-bool ImplicitNewmark<Shape>::trySteps(double t, double dt, int depth) {
+template <class Shape, int Dim>
+bool ImplicitNewmark<Shape, Dim>::trySteps(double t, double dt, int depth) {
   using clock = std::chrono::steady_clock;
   auto t0 = clock::now();
   setUpStep(t, dt);
@@ -512,8 +521,8 @@ bool ImplicitNewmark<Shape>::trySteps(double t, double dt, int depth) {
   return trySteps(t, 0.5 * dt, depth + 1) && trySteps(t + 0.5 * dt, 0.5 * dt, depth + 1);
 }
 
-template <class Shape>
-void ImplicitNewmark<Shape>::step(double t, double dt) {
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::step(double t, double dt) {
   if (!trySteps(t, dt, 0)) {
     std::ostringstream msg;
     msg << "Newton did not converge in the step from t = " << t << " s (dt = " << dt << " s), even with dt halved "
@@ -522,8 +531,8 @@ void ImplicitNewmark<Shape>::step(double t, double dt) {
   }
 }
 
-template <class Shape>
-void ImplicitNewmark<Shape>::addStatistics(Teuchos::ParameterList& summary) const {
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary) const {
   Teuchos::ParameterList& s = summary.sublist("Solver");
   const auto& n = newtonPerStep_;
   const auto& k = krylovPerNewton_;
@@ -540,8 +549,11 @@ void ImplicitNewmark<Shape>::addStatistics(Teuchos::ParameterList& summary) cons
   s.set("Configuration", describe(solver_->parameters()));
 }
 
-template class ImplicitNewmark<LinearMpm>;
-template class ImplicitNewmark<UniformGimp>;
-template class ImplicitNewmark<QuadraticLagrange>;
+template class ImplicitNewmark<LinearMpm, 2>;
+template class ImplicitNewmark<UniformGimp, 2>;
+template class ImplicitNewmark<QuadraticLagrange, 2>;
+template class ImplicitNewmark<LinearMpm, 3>;
+template class ImplicitNewmark<UniformGimp, 3>;
+template class ImplicitNewmark<QuadraticLagrange, 3>;
 
 }  // namespace impm

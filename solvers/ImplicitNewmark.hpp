@@ -63,7 +63,7 @@ struct NewtonNotConverged : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-template <class Shape>
+template <class Shape, int Dim = 2>
 class ImplicitNewmark : public Integrator, public ResidualModel {
  public:
   ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist, const LinearElastic& material,
@@ -107,7 +107,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   const NodalConstraints& bc_;
   const LoadSet& loads_;
   ImplicitOptions opt_;
-  ProjectionCorrection<Shape> projection_;
+  ProjectionCorrection<Shape, Dim> projection_;
   std::unique_ptr<NewtonSolver> solver_;
   double dt_ = 0, massCutoff_ = 0;
   bool firstStep_ = true;

@@ -12,21 +12,21 @@
 
 namespace impm {
 
-template <class Shape>
+template <class Shape, int Dim>
 class ProjectionCorrection {
  public:
   using Exec = ExecutionSpace;
   explicit ProjectionCorrection(const GridDistribution& dist)
       : dist_(dist),
-        fieldOwned_(Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2))),
-        fieldGhosted_(Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2))),
-        residualOwned_(Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2))),
-        residualGhosted_(Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2))) {}
+        fieldOwned_(Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), Dim))),
+        fieldGhosted_(Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), Dim))),
+        residualOwned_(Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), Dim))),
+        residualGhosted_(Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), Dim))) {}
 
-  // Corrects columns momCol, momCol + 1 of `owned` (the particle sums m f) in place, with the
+  // Corrects columns momCol.. (Dim of them) of `owned` (the particle sums m f) in place, with the
   // node masses in massCol; `particleField` is f_p (ps.v or ps.a).
   void apply(MultiVector& owned, int massCol, int momCol, const ParticleSet& ps,
-             const ParticleSet::Vec2& particleField, const NodalConstraints& bc, double massCutoff,
+             const ParticleSet::Vec& particleField, const NodalConstraints& bc, double massCutoff,
              int iterations) const {
     for (int it = 0; it < iterations; ++it) {
       {
@@ -36,8 +36,7 @@ class ProjectionCorrection {
         Kokkos::parallel_for(
             "projection_field", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
               const double m = s(n, massCol);
-              f(n, 0) = m > cutoff ? s(n, momCol) / m : 0.0;
-              f(n, 1) = m > cutoff ? s(n, momCol + 1) / m : 0.0;
+              for (int d = 0; d < Dim; ++d) f(n, d) = m > cutoff ? s(n, momCol + d) / m : 0.0;
             });
         bc.template apply<Exec>(f, 0);
       }
@@ -46,7 +45,7 @@ class ProjectionCorrection {
       {
         auto f = fieldGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
         auto r = residualGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-        particleToGridProjectionResidual<Exec, Shape>(dist_.grid(), dist_.ghostedIndexer(), ps, f, 0, r, 0,
+        particleToGridProjectionResidual<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps, f, 0, r, 0,
                                                       particleField);
       }
       residualOwned_->putScalar(0.0);
@@ -55,8 +54,7 @@ class ProjectionCorrection {
       auto r = residualOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
       Kokkos::parallel_for(
           "projection_correction", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
-            s(n, momCol) += r(n, 0);
-            s(n, momCol + 1) += r(n, 1);
+            for (int d = 0; d < Dim; ++d) s(n, momCol + d) += r(n, d);
           });
     }
   }

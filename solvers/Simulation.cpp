@@ -38,7 +38,8 @@ void Simulation::checkParticlesInReach(double t) const {
   const bool lowEdge = ix.colBegin == 0, highEdge = ix.colEnd - 1 >= g.nx;
   const double xLo = lowEdge ? g.x0 : g.nodeX(ix.colBegin) + g.hx;
   const double xHi = highEdge ? g.xMax() : g.nodeX(ix.colEnd - 1) - g.hx;
-  const double yLo = g.y0, yHi = g.yMax();
+  const double yLo = g.y0, yHi = g.yMax(), zLo = g.z0, zHi = g.zMax();
+  const bool solid = g.dim == 3;
   auto x = particles_.x; auto hs = particles_.halfSize;
   int outside = 0;
   Kokkos::parallel_reduce(
@@ -46,7 +47,9 @@ void Simulation::checkParticlesInReach(double t) const {
       KOKKOS_LAMBDA(int p, int& count) {
         const double reachLo = lowEdge ? x(p, 0) : x(p, 0) - hs(p, 0);
         const double reachHi = highEdge ? x(p, 0) : x(p, 0) + hs(p, 0);
-        if (!(reachLo >= xLo && reachHi <= xHi && x(p, 1) >= yLo && x(p, 1) <= yHi)) ++count;
+        bool inside = reachLo >= xLo && reachHi <= xHi && x(p, 1) >= yLo && x(p, 1) <= yHi;
+        if (solid) inside = inside && x(p, 2) >= zLo && x(p, 2) <= zHi;
+        if (!inside) ++count;
       },
       outside);
   int total = 0;
@@ -62,12 +65,14 @@ double Simulation::divergenceMeasure() const {
   auto stress = particles_.stress;
   auto material = particles_.material;
   const LinearElasticLaw law = materials_.law();
+  const int dim = particles_.dim, ns = particles_.stressCount();
   double local = 0.0;
   Kokkos::parallel_reduce(
       "divergence_guard", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
       KOKKOS_LAMBDA(int p, double& worst) {
-        double sum = v(p, 0) + v(p, 1), largest = 0.0;
-        for (int i = 0; i < 4; ++i) {
+        double sum = 0.0, largest = 0.0;
+        for (int d = 0; d < dim; ++d) sum += v(p, d);
+        for (int i = 0; i < ns; ++i) {
           sum += stress(p, i);
           largest = std::fmax(largest, std::fabs(stress(p, i)));
         }

@@ -7,6 +7,7 @@
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_ParameterList.hpp>
+#include <array>
 #include <map>
 #include <memory>
 #include <ostream>
@@ -24,6 +25,8 @@
 #include "solvers/Integrator.hpp"
 
 namespace impm {
+
+using Point = std::array<double, 3>;  // (x, y, z); z = 0 in 2D
 
 class Simulation {
  public:
@@ -58,17 +61,20 @@ class Simulation {
   // What to change when the run diverged (the time step, with the explicit critical step).
   std::string timeStepAdvice() const;
   void writeSummary(const RunResult& r) const;
-  // The particle nearest (px, py) at t = 0 over all ranks.
-  void nearestParticle(double px, double py, Monitor& m) const;
+  // The particle nearest a point at t = 0 over all ranks.
+  void nearestParticle(const Point& point, Monitor& m) const;
   const BodySpec& bodyNamed(const std::string& key, const std::string& name) const;
-  void checkGridNode(const std::string& where, double x, double y) const;
+  void checkGridNode(const std::string& where, double x, double y, double z) const;
+  // X, Y (and Z in 3D) of a deck entry; "(x, y[, z])" for messages.
+  Point pointOf(const Teuchos::ParameterList& list) const;
+  std::string describePoint(const Point& p) const;
   // Deck errors found before anything is allocated or run: a grid or particle count beyond the
   // indices, or an estimated memory above the machine's (or Problem/Memory Limit GB).
   void checkProblemSize(bool implicit) const;
   // A Node Force on a grid node that no particle reaches at t = 0 (it would act on no mass).
-  void checkNodeReached(const std::string& loadKey, double x, double y) const;
+  void checkNodeReached(const std::string& loadKey, const Point& point) const;
   // A point (Particle Force, monitor) farther than one cell diagonal from its nearest particle.
-  void checkNearParticle(const std::string& what, double x, double y, const Monitor& nearest) const;
+  void checkNearParticle(const std::string& what, const Point& point, const Monitor& nearest) const;
 
   Teuchos::ParameterList deck_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
@@ -90,7 +96,7 @@ class Simulation {
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<ExactReference> exact_;
   double dt_ = 0;
-  double criticalStep_ = 0;  // explicit: 0.7 / (c_p sqrt(1/hx^2 + 1/hy^2)) (Stability Factor 1); 0 for implicit runs
+  double criticalStep_ = 0;  // explicit: 0.7 / (c_p sqrt(1/hx^2 + 1/hy^2 [+ 1/hz^2])) (Stability Factor 1); 0 for implicit runs
   int steps_ = 0;
   bool energyHistory_ = false;
 };

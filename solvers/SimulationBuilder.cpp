@@ -19,6 +19,7 @@
 #include <limits>
 #include <sstream>
 #include <tuple>
+#include <type_traits>
 
 #include "core/Collective.hpp"
 #include "core/InputDeck.hpp"
@@ -103,11 +104,15 @@ bool onGridLine(double x, double x0, double h) {
 
 }  // namespace
 
-void Simulation::checkGridNode(const std::string& where, double x, double y) const {
-  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
+void Simulation::checkGridNode(const std::string& where, double x, double y, double z) const {
+  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy, tolz = 1e-9 * grid_.hz;
+  const bool solid = grid_.dim == 3;
   if (!onGridLine(x, grid_.x0, grid_.hx) || !onGridLine(y, grid_.y0, grid_.hy) || x < grid_.x0 - tolx ||
-      x > grid_.xMax() + tolx || y < grid_.y0 - toly || y > grid_.yMax() + toly)
-    throw DeckError("'" + where + "/X', '" + where + "/Y' = (" + formatNumber(x) + ", " + formatNumber(y) + ") is not a grid node");
+      x > grid_.xMax() + tolx || y < grid_.y0 - toly || y > grid_.yMax() + toly ||
+      (solid && (!onGridLine(z, grid_.z0, grid_.hz) || z < grid_.z0 - tolz || z > grid_.zMax() + tolz)))
+    throw DeckError("'" + where + "/X', '" + where + "/Y'" + (solid ? ", '" + where + "/Z'" : std::string()) + " = (" +
+                    formatNumber(x) + ", " + formatNumber(y) + (solid ? ", " + formatNumber(z) : std::string()) +
+                    ") is not a grid node");
 }
 
 Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
@@ -121,6 +126,14 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] { checkOutputDirectory(outputDir_, outputKey_); });
 
   const ParameterList& g = deck_.sublist("Grid");
+  grid_.dim = g.get<int>("Dimension");
+  if (grid_.dim != 2 && grid_.dim != 3)
+    throw DeckError("'Grid/Dimension' must be 2 or 3, got " + std::to_string(grid_.dim));
+  if (grid_.dim == 3) {
+    grid_.z0 = g.get<double>("Origin Z");
+    grid_.nz = positiveInt(g, "Grid", "Cells Z");
+    grid_.hz = positive(g, "Grid", "Cell Size Z");
+  }
   grid_.x0 = g.get<double>("Origin X");
   grid_.y0 = g.get<double>("Origin Y");
   grid_.nx = positiveInt(g, "Grid", "Cells X");
@@ -176,9 +189,11 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     Monitor mon;
     mon.name = ml.name(it);
     mon.quantity = mp.get<std::string>("Quantity");
-    const double x = mp.get<double>("X"), y = mp.get<double>("Y");
-    nearestParticle(x, y, mon);
-    checkNearParticle("'Monitors/" + mon.name + "' at", x, y, mon);
+    if (grid_.dim == 2 && (mon.quantity.back() == 'Z' && mon.quantity != "Stress ZZ"))
+      throw DeckError("'Monitors/" + mon.name + "/Quantity' = " + mon.quantity + " needs 'Grid/Dimension' = 3");
+    const Point at = pointOf(mp);
+    nearestParticle(at, mon);
+    checkNearParticle("'Monitors/" + mon.name + "' at", at, mon);
     monitors_.push_back(mon);
   }
   energyHistory_ = deck_.sublist("Output").get<bool>("Energy And Momentum");
@@ -221,12 +236,15 @@ void Simulation::buildMaterialsAndBodies() {
     params.push_back(p);
     materialNames_.push_back(name);
   }
-  const PlaneCondition plane = deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress"
+  const PlaneCondition plane = grid_.dim == 3 ? PlaneCondition::Solid
+                               : deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress"
                                    ? PlaneCondition::PlaneStress
                                    : PlaneCondition::PlaneStrain;
   if (params.empty()) throw DeckError("'Materials' is empty: a deck with Bodies needs at least one material");
   materials_ = LinearElastic(params, plane);
 
+  if (shape_ == "FE Q9" && grid_.dim == 3 && grid_.nz % 2)
+    throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " + std::to_string(grid_.nz));
   if (shape_ == "FE Q9" && (grid_.nx % 2 || grid_.ny % 2))
     throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
                     std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
@@ -248,11 +266,17 @@ void Simulation::buildMaterialsAndBodies() {
     body.material = (int)(found - materialNames_.begin());
     body.rect.particlesPerCellX = positiveInt(b, key, "Particles Per Cell X");
     body.rect.particlesPerCellY = positiveInt(b, key, "Particles Per Cell Y");
+    if (grid_.dim == 3) body.rect.particlesPerCellZ = positiveInt(b, key, "Particles Per Cell Z");
     body.rect.thickness = thickness_;
     body.rect.placement = placement_;
     body.velocityX = b.get<double>("Velocity X");
     body.velocityY = b.get<double>("Velocity Y");
+    body.velocityZ = b.get<double>("Velocity Z");
     const std::string shape = b.get<std::string>("Shape");
+    if (grid_.dim == 3 && (shape == "Ellipse" || shape == "Polygon"))
+      throw DeckError("'" + key + "/Shape' = " + shape + " is a 2D shape; with 'Grid/Dimension' = 3 a body is a Rectangle (box) or a Particles File");
+    if (grid_.dim == 2 && body.velocityZ != 0.0)
+      throw DeckError("'" + key + "/Velocity Z' = " + formatNumber(body.velocityZ) + " needs 'Grid/Dimension' = 3");
     size_t fileParticles = 0;
     if (placement_ != Placement::Lattice && shape != "Rectangle")
       throw DeckError("'" + key + "/Shape' = " + shape + ": 'Method/Shape Function' = " + shape_ +
@@ -268,8 +292,19 @@ void Simulation::buildMaterialsAndBodies() {
         if (r.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: '" + key + "/X Max' = " + formatNumber(r.xMax) + " is beyond the grid's right edge " + formatNumber(grid_.xMax()));
         if (r.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + formatNumber(r.yMin) + " is below the grid origin " + formatNumber(grid_.y0));
         if (r.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + formatNumber(r.yMax) + " is above the grid's top edge " + formatNumber(grid_.yMax()));
-        for (auto [k, v, o, h] : {std::make_tuple("X Min", r.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", r.xMax, grid_.x0, grid_.hx),
-                                  std::make_tuple("Y Min", r.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", r.yMax, grid_.y0, grid_.hy)}) {
+        std::vector<std::tuple<const char*, double, double, double>> edges = {
+            std::make_tuple("X Min", r.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", r.xMax, grid_.x0, grid_.hx),
+            std::make_tuple("Y Min", r.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", r.yMax, grid_.y0, grid_.hy)};
+        if (grid_.dim == 3) {
+          r.zMin = b.get<double>("Z Min"); r.zMax = b.get<double>("Z Max");
+          const double tolz = 1e-9 * grid_.hz;
+          if (!(r.zMax > r.zMin)) throw DeckError("'" + key + "/Z Max' must exceed '" + key + "/Z Min'");
+          if (r.zMin < grid_.z0 - tolz) throw DeckError("particles outside the grid: '" + key + "/Z Min' = " + formatNumber(r.zMin) + " is behind the grid origin " + formatNumber(grid_.z0));
+          if (r.zMax > grid_.zMax() + tolz) throw DeckError("particles outside the grid: '" + key + "/Z Max' = " + formatNumber(r.zMax) + " is beyond the grid's front face " + formatNumber(grid_.zMax()));
+          edges.push_back(std::make_tuple("Z Min", r.zMin, grid_.z0, grid_.hz));
+          edges.push_back(std::make_tuple("Z Max", r.zMax, grid_.z0, grid_.hz));
+        }
+        for (auto [k, v, o, h] : edges) {
           if (!onGridLine(v, o, h)) throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on a grid line");
           // FE Q9: elements of 2 x 2 cells, the body made of whole elements.
           if (placement_ == Placement::GaussQ9 && std::lround((v - o) / h) % 2)
@@ -293,7 +328,7 @@ void Simulation::buildMaterialsAndBodies() {
         if (body.particlesFile.empty()) throw DeckError("'" + key + "/File' must name a particles file for Shape = Particles File");
         try {
           // Checked here, before anything runs.
-          fileParticles = readParticlesFile(body.particlesFile, 2, thickness_).size();
+          fileParticles = readParticlesFile(body.particlesFile, grid_.dim, thickness_).size();
         } catch (const std::exception& e) {
           throw DeckError("'" + key + "/File': " + e.what());
         }
@@ -315,9 +350,14 @@ void Simulation::buildMaterialsAndBodies() {
       particles = cells = (double)fileParticles;
     } else {
       cells = body.shape->area() / (grid_.hx * grid_.hy);
-      particles = cells * (placement_ == Placement::GaussQ4   ? 4.0
-                           : placement_ == Placement::GaussQ9 ? 9.0 / 4.0
-                                                              : (double)body.rect.particlesPerCellX * body.rect.particlesPerCellY);
+      double perCell = placement_ == Placement::GaussQ4   ? 4.0
+                       : placement_ == Placement::GaussQ9 ? 9.0 / 4.0
+                                                          : (double)body.rect.particlesPerCellX * body.rect.particlesPerCellY;
+      if (grid_.dim == 3) {
+        cells *= body.rect.depth() / grid_.hz;
+        perCell *= placement_ == Placement::GaussQ4 ? 2.0 : placement_ == Placement::GaussQ9 ? 3.0 / 2.0 : body.rect.particlesPerCellZ;
+      }
+      particles = cells * perCell;
     }
     estimatedBodyCells_.push_back(cells);
     estimatedBodyParticles_.push_back(particles);
@@ -326,11 +366,14 @@ void Simulation::buildMaterialsAndBodies() {
 }
 
 void Simulation::checkProblemSize(bool implicit) const {
-  const std::string cells = "'Grid/Cells X' x 'Grid/Cells Y' = " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny);
-  const double nodes = (grid_.nx + 1.0) * (grid_.ny + 1.0);
-  if (nodes > kMaxGridNodes)
-    throw DeckError(cells + " makes " + formatNumber(nodes) + " grid nodes, more than the " + std::to_string(kMaxGridNodes) +
-                    " that impm's 32-bit local indices hold (two unknowns per node)");
+  const bool solid = grid_.dim == 3;
+  const std::string cells = std::string(solid ? "'Grid/Cells X' x 'Grid/Cells Y' x 'Grid/Cells Z' = " : "'Grid/Cells X' x 'Grid/Cells Y' = ") +
+                            std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
+                            (solid ? " x " + std::to_string(grid_.nz) : std::string());
+  const double nodes = (grid_.nx + 1.0) * (grid_.ny + 1.0) * (solid ? grid_.nz + 1.0 : 1.0);
+  if (nodes * grid_.dim / 2 > kMaxGridNodes)
+    throw DeckError(cells + " makes " + formatNumber(nodes) + " grid nodes, more than impm's 32-bit local indices hold with " +
+                    std::to_string(grid_.dim) + " unknowns per node");
   double particles = 0, coveredCells = 0;
   size_t largest = 0;
   for (size_t b = 0; b < bodies_.size(); ++b) {
@@ -356,7 +399,7 @@ void Simulation::checkProblemSize(bool implicit) const {
   const int ranks = comm_->getSize();
   const double gridBytes = implicit ? nodes * kBytesPerNodeImplicitVoid + std::min(nodes, 2 * coveredCells) * kBytesPerNodeImplicitActive
                                     : nodes * kBytesPerNodeExplicit;
-  const double particleBytes = particles * (ParticleSet::bytesPerParticle() + kFillBytesPerParticlePerRank * ranks);
+  const double particleBytes = particles * (ParticleSet::bytesPerParticle(grid_.dim) + kFillBytesPerParticlePerRank * ranks);
   const double needed = ranks * kBytesPerRank + gridBytes + particleBytes;
   auto gigabytes = [](double bytes) { return formatNumber(std::max(0.01, std::round(bytes / 1e7) / 100)) + " GB"; };
   // The machine's memory is read on rank 0 only: every rank takes its verdict.
@@ -371,36 +414,52 @@ void Simulation::checkProblemSize(bool implicit) const {
   });
 }
 
-void Simulation::checkNodeReached(const std::string& key, double x, double y) const {
-  const double xn = grid_.nodeX((int)std::lround((x - grid_.x0) / grid_.hx));
-  const double yn = grid_.nodeY((int)std::lround((y - grid_.y0) / grid_.hy));
+void Simulation::checkNodeReached(const std::string& key, const Point& point) const {
+  double node[3] = {0, 0, 0};
+  for (int d = 0; d < grid_.dim; ++d)
+    node[d] = grid_.origin(d) + grid_.spacing(d) * std::lround((point[d] - grid_.origin(d)) / grid_.spacing(d));
   // A node's shape function reaches one cell (FE Q9: one element of two cells), plus the
   // particle's half size with GIMP.
-  const double span = shape_ == "FE Q9" ? 2.0 : 1.0, reachX = span * grid_.hx, reachY = span * grid_.hy;
+  const double span = shape_ == "FE Q9" ? 2.0 : 1.0;
+  const double reach[3] = {span * grid_.hx, span * grid_.hy, span * grid_.hz};
   const double domain = shape_ == "GIMP" ? 1.0 : 0.0;
   auto px = particles_.x;
   auto hs = particles_.halfSize;
+  const int dim = grid_.dim;
+  const double n0 = node[0], n1 = node[1], n2 = node[2], r0 = reach[0], r1 = reach[1], r2 = reach[2];
   int local = 0;
   Kokkos::parallel_reduce(
       "node_force_reached", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
       KOKKOS_LAMBDA(int p, int& n) {
-        if (std::abs(px(p, 0) - xn) < reachX + domain * hs(p, 0) && std::abs(px(p, 1) - yn) < reachY + domain * hs(p, 1)) ++n;
+        bool near = std::abs(px(p, 0) - n0) < r0 + domain * hs(p, 0) && std::abs(px(p, 1) - n1) < r1 + domain * hs(p, 1);
+        if (dim == 3) near = near && std::abs(px(p, 2) - n2) < r2 + domain * hs(p, 2);
+        if (near) ++n;
       },
       local);
   int reached = 0;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, local, Teuchos::outArg(reached));
   if (reached == 0)
-    throw DeckError("'" + key + "/Type' = Node Force at (" + formatNumber(x) + ", " + formatNumber(y) +
-                    "): no particle reaches this grid node at t = 0, so the force would act on no mass; put it on a node of a "
+    throw DeckError("'" + key + "/Type' = Node Force at " + describePoint(point) +
+                    ": no particle reaches this grid node at t = 0, so the force would act on no mass; put it on a node of a "
                     "body, or use a Particle Force");
 }
 
-void Simulation::checkNearParticle(const std::string& what, double x, double y, const Monitor& nearest) const {
-  const double distance = std::hypot(nearest.x0 - x, nearest.y0 - y), cell = std::hypot(grid_.hx, grid_.hy);
+std::string Simulation::describePoint(const Point& p) const {
+  return "(" + formatNumber(p[0]) + ", " + formatNumber(p[1]) + (grid_.dim == 3 ? ", " + formatNumber(p[2]) : std::string()) + ")";
+}
+
+void Simulation::checkNearParticle(const std::string& what, const Point& p, const Monitor& nearest) const {
+  const double dz = grid_.dim == 3 ? nearest.z0 - p[2] : 0.0, hz = grid_.dim == 3 ? grid_.hz : 0.0;
+  const double distance = std::sqrt(std::pow(nearest.x0 - p[0], 2) + std::pow(nearest.y0 - p[1], 2) + dz * dz);
+  const double cell = std::sqrt(grid_.hx * grid_.hx + grid_.hy * grid_.hy + hz * hz);
   if (distance > cell)
-    throw DeckError(what + " (" + formatNumber(x) + ", " + formatNumber(y) + "): the nearest particle, at (" +
-                    formatNumber(nearest.x0) + ", " + formatNumber(nearest.y0) + "), is " + formatNumber(distance) +
+    throw DeckError(what + " " + describePoint(p) + ": the nearest particle, at " +
+                    describePoint({nearest.x0, nearest.y0, nearest.z0}) + ", is " + formatNumber(distance) +
                     " m away, farther than one cell diagonal (" + formatNumber(cell) + " m): no body there");
+}
+
+Point Simulation::pointOf(const ParameterList& list) const {
+  return {list.get<double>("X"), list.get<double>("Y"), grid_.dim == 3 ? list.get<double>("Z") : 0.0};
 }
 
 std::vector<ConstraintSpec> Simulation::buildConstraints() {
@@ -413,22 +472,29 @@ std::vector<ConstraintSpec> Simulation::buildConstraints() {
     const std::string key = "Constraints/" + s.name;
     s.where = c.get<std::string>("Where");
     s.face = c.get<std::string>("Face");
-    s.x = c.get<double>("X"); s.y = c.get<double>("Y");
+    const Point node = pointOf(c);
+    s.x = node[0]; s.y = node[1]; s.z = node[2];
     s.xMin = c.get<double>("X Min"); s.xMax = c.get<double>("X Max");
     s.yMin = c.get<double>("Y Min"); s.yMax = c.get<double>("Y Max");
+    if (grid_.dim == 3) { s.zMin = c.get<double>("Z Min"); s.zMax = c.get<double>("Z Max"); }
     const std::string comp = c.get<std::string>("Components");
     s.fixX = comp.find('x') != std::string::npos;
     s.fixY = comp.find('y') != std::string::npos;
-    if (s.where == "Node") checkGridNode(key, s.x, s.y);
+    s.fixZ = comp.find('z') != std::string::npos;
+    if (grid_.dim == 2 && s.fixZ)
+      throw DeckError("'" + key + "/Components' = " + comp + " fixes z, which needs 'Grid/Dimension' = 3");
+    if (grid_.dim == 2 && s.where == "Face" && s.face[0] == 'z')
+      throw DeckError("'" + key + "/Face' = " + s.face + " needs 'Grid/Dimension' = 3");
+    if (s.where == "Node") checkGridNode(key, s.x, s.y, s.z);
     if (s.where == "Face") {
       const BodySpec& b = bodyNamed(key + "/Body", c.get<std::string>("Body"));
       if (!b.rectangle) throw DeckError("'" + key + "': Where = Face needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
       s.body = b.rect;
     }
     if (s.where == "Box") {
-      if (!(s.xMax >= s.xMin && s.yMax >= s.yMin))
-        throw DeckError("'" + key + "': the box needs X Max >= X Min and Y Max >= Y Min");
-      if (boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax).empty())
+      if (!(s.xMax >= s.xMin && s.yMax >= s.yMin && s.zMax >= s.zMin))
+        throw DeckError("'" + key + "': the box needs X Max >= X Min, Y Max >= Y Min (and Z Max >= Z Min)");
+      if (boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax).empty())
         throw DeckError("'" + key + "': the box [" + formatNumber(s.xMin) + ", " + formatNumber(s.xMax) + "] x [" + formatNumber(s.yMin) + ", " +
                         formatNumber(s.yMax) + "] holds no grid node");
     }
@@ -448,9 +514,15 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     const std::string key = "Loads/" + s.name;
     s.type = l.get<std::string>("Type");
     s.face = l.get<std::string>("Face");
-    s.x = l.get<double>("X"); s.y = l.get<double>("Y");
-    s.forceX = l.get<double>("Force X"); s.forceY = l.get<double>("Force Y");
+    const Point point = pointOf(l);
+    s.x = point[0]; s.y = point[1]; s.z = point[2];
+    s.forceX = l.get<double>("Force X"); s.forceY = l.get<double>("Force Y"); s.forceZ = l.get<double>("Force Z");
     s.accelerationX = l.get<double>("Acceleration X"); s.accelerationY = l.get<double>("Acceleration Y");
+    s.accelerationZ = l.get<double>("Acceleration Z");
+    if (grid_.dim == 2 && (s.forceZ != 0.0 || s.accelerationZ != 0.0))
+      throw DeckError("'" + key + "/" + (s.forceZ != 0.0 ? "Force Z" : "Acceleration Z") + "' is not zero: z components need 'Grid/Dimension' = 3");
+    if (grid_.dim == 2 && s.type == "Face Traction" && s.face[0] == 'z')
+      throw DeckError("'" + key + "/Face' = " + s.face + " needs 'Grid/Dimension' = 3");
     const std::string tf = l.get<std::string>("Time Function");
     s.time.kind = tf == "Sine" ? TimeFunction::Kind::Sine : tf == "Constant" ? TimeFunction::Kind::Constant : TimeFunction::Kind::Step;
     s.time.omega = l.get<double>("Angular Frequency");
@@ -458,8 +530,8 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     if (s.time.kind == TimeFunction::Kind::Sine && !(s.time.omega > 0))
       throw DeckError("'" + key + "/Angular Frequency' must be positive for a Sine load");
     if (s.type == "Node Force") {
-      checkGridNode(key, s.x, s.y);
-      checkNodeReached(key, s.x, s.y);
+      checkGridNode(key, s.x, s.y, s.z);
+      checkNodeReached(key, point);
     }
     const std::string bodyName = l.get<std::string>("Body");
     if (s.type == "Face Traction") {
@@ -472,8 +544,8 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     long long particle = -1;
     if (s.type == "Particle Force") {
       Monitor m;
-      nearestParticle(s.x, s.y, m);
-      checkNearParticle("'" + key + "/Type' = Particle Force at", s.x, s.y, m);
+      nearestParticle(point, m);
+      checkNearParticle("'" + key + "/Type' = Particle Force at", point, m);
       particle = m.particleId;
     }
     loadParticle.push_back(particle);
@@ -503,14 +575,17 @@ void Simulation::buildIntegrator() {
     // c_p: the fastest material's. A factor above 1 leaves the measured stable range: allowed for
     // stability studies, with a warning, and the run's divergence guard stops a run that blows up.
     const double cp = materials_.maxPWaveSpeed();
-    const double critical =
-        kTransferStabilityFraction / (cp * std::sqrt(1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy)));
+    const double inverseSquares = 1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy) +
+                                  (grid_.dim == 3 ? 1.0 / (grid_.hz * grid_.hz) : 0.0);
+    const double critical = kTransferStabilityFraction / (cp * std::sqrt(inverseSquares));
     const double limit = factor * critical;
     if (integratorType == "Explicit") criticalStep_ = critical;
     if (integratorType == "Explicit" && dt_ > limit)
       throw DeckError("'Integrator/Time Step' = " + formatNumber(dt_) + " exceeds the explicit stable limit " + formatNumber(limit) +
                       " (Stability Factor x " + formatNumber(kTransferStabilityFraction) +
-                      " / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed " + formatNumber(cp) + " m/s)");
+                      (grid_.dim == 3 ? " / (P-wave speed x sqrt(1/hx^2 + 1/hy^2 + 1/hz^2)), P-wave speed "
+                                      : " / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed ") +
+                      formatNumber(cp) + " m/s)");
     if (integratorType == "Explicit" && factor > 1.0 && comm_->getRank() == 0)
       std::cerr << "impm: warning: 'Integrator/Explicit/Stability Factor' = " << formatNumber(factor)
                 << " is above 1, beyond the measured stable limit of the particle transfers; the run may diverge\n";
@@ -545,43 +620,55 @@ void Simulation::buildIntegrator() {
     if (iopt.projectionIterations < 0)
       throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
     iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
+    auto implicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
+      constexpr int Dim = decltype(dimension)::value;
+      if (gimp) return std::make_unique<ImplicitNewmark<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      if (shape_ == "FE Q9")
+        return std::make_unique<ImplicitNewmark<QuadraticLagrange, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      return std::make_unique<ImplicitNewmark<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+    };
     try {
-      if (gimp) integrator_ = std::make_unique<ImplicitNewmark<UniformGimp>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      else if (shape_ == "FE Q9") integrator_ = std::make_unique<ImplicitNewmark<QuadraticLagrange>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      else integrator_ = std::make_unique<ImplicitNewmark<LinearMpm>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      integrator_ = grid_.dim == 3 ? implicitOf(std::integral_constant<int, 3>{}) : implicitOf(std::integral_constant<int, 2>{});
     } catch (const std::invalid_argument& e) {
       throw DeckError(e.what());
     }
-  } else if (gimp) {
-    integrator_ = std::make_unique<ExplicitStepper<UniformGimp>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
   } else {
-    integrator_ = std::make_unique<ExplicitStepper<LinearMpm>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+    auto explicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
+      constexpr int Dim = decltype(dimension)::value;
+      if (gimp) return std::make_unique<ExplicitStepper<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+      return std::make_unique<ExplicitStepper<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+    };
+    integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});
   }
 }
 
-void Simulation::nearestParticle(double px, double py, Monitor& m) const {
+void Simulation::nearestParticle(const Point& point, Monitor& m) const {
   auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
   auto idh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
+  const int dim = particles_.dim;
   double best = std::numeric_limits<double>::max();
   int local = -1;
   for (int p = 0; p < particles_.count; ++p) {
-    const double d = std::hypot(xh(p, 0) - px, xh(p, 1) - py);
-    if (d < best - 1e-15 * (1 + d)) { best = d; local = p; }
+    double d2 = 0;
+    for (int d = 0; d < dim; ++d) d2 += (xh(p, d) - point[d]) * (xh(p, d) - point[d]);
+    const double dist = std::sqrt(d2);
+    if (dist < best - 1e-15 * (1 + dist)) { best = dist; local = p; }
   }
   double gbest = 0;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, best, Teuchos::outArg(gbest));
   const int candidate = (local >= 0 && best == gbest) ? comm_->getRank() : comm_->getSize();
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, candidate, Teuchos::outArg(m.owner));
-  double pos[3] = {0, 0, 0}, gpos[3];
+  double pos[4] = {0, 0, 0, 0}, gpos[4];
   if (m.owner == comm_->getRank()) {
-    pos[0] = xh(local, 0); pos[1] = xh(local, 1); pos[2] = (double)idh(local);
+    for (int d = 0; d < dim; ++d) pos[d] = xh(local, d);
+    pos[3] = (double)idh(local);
   } else {
     local = -1;
   }
-  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 3, pos, gpos);
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 4, pos, gpos);
   m.localIndex = local;
-  m.x0 = gpos[0]; m.y0 = gpos[1];
-  m.particleId = std::llround(gpos[2]);
+  m.x0 = gpos[0]; m.y0 = gpos[1]; m.z0 = gpos[2];
+  m.particleId = std::llround(gpos[3]);
 }
 
 }  // namespace impm

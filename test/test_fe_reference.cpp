@@ -35,11 +35,11 @@ TEUCHOS_UNIT_TEST(QuadraticLagrange, CompletenessAndGradients) {
   for (int k = 0; k < 2000; ++k) {
     const double x = ux(rng), y = uy(rng);
     const ParticleStencil<QuadraticLagrange> st(g, x, y, 0.0, 0.0);
-    TEST_EQUALITY_CONST(st.i0 % 2, 0);  // element-aligned
+    TEST_EQUALITY_CONST(st.first[0] % 2, 0);  // element-aligned
     double sum = 0, mx = 0, mxx = 0, myy = 0, gxs = 0, gx1 = 0, gx2 = 0;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) {
-        const double xi = g.nodeX(st.i0 + a), yj = g.nodeY(st.j0 + b);
+        const double xi = g.nodeX(st.first[0] + a), yj = g.nodeY(st.first[1] + b);
         sum += st.weight(a, b);
         mx += st.weight(a, b) * xi;
         mxx += st.weight(a, b) * xi * xi;
@@ -56,7 +56,7 @@ TEUCHOS_UNIT_TEST(QuadraticLagrange, CompletenessAndGradients) {
     TEST_COMPARE(std::abs(gx1 - 1.0), <, 1e-11);
     TEST_COMPARE(std::abs(gx2 - 2.0 * x), <, 1e-11);
     // Gradient against a central difference inside the same element.
-    const int node = st.i0 + 1;
+    const int node = st.first[0] + 1;
     const double r = x - g.nodeX(node), eps = 1e-6 * g.hx;
     const double fd = (QuadraticLagrange::value(r + eps, g.hx, 0.0, node) - QuadraticLagrange::value(r - eps, g.hx, 0.0, node)) / (2 * eps);
     TEST_COMPARE(std::abs(QuadraticLagrange::gradient(r, g.hx, 0.0, node) - fd), <, 1e-6 / g.hx);

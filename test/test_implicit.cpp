@@ -146,11 +146,11 @@ TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
     if (method == "MPM") stepper = std::make_unique<ImplicitNewmark<LinearMpm>>(ps, dist, mat, bc, loads, opt);
     else stepper = std::make_unique<ImplicitNewmark<UniformGimp>>(ps, dist, mat, bc, loads, opt);
     const double dt = 2e-8;
-    const ParticleTotals e0 = particleTotals<ExecutionSpace>(ps, mat.law(), *comm);
+    const ParticleTotals e0 = particleTotals<ExecutionSpace, 2>(ps, mat.law(), *comm);
     double worst = 0, maxStrain = 0;
     for (int n = 0; n < 100; ++n) {
       stepper->step(n * dt, dt);
-      const ParticleTotals e = particleTotals<ExecutionSpace>(ps, mat.law(), *comm);
+      const ParticleTotals e = particleTotals<ExecutionSpace, 2>(ps, mat.law(), *comm);
       worst = std::max(worst, std::abs(e.total() - e0.total()) / e0.total());
       if (n == 0 || n == 1 || n == 9 || n == 49 || n == 99)
         out << method << (consistentMass ? " consistent" : " lumped") << " step " << n + 1 << ": (E - E0) / E0 = " << (e.total() - e0.total()) / e0.total() << "\n";

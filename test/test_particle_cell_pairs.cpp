@@ -63,9 +63,9 @@ TEUCHOS_UNIT_TEST(ParticleCellPairs, OverlapIntegralsGiveGimpWeights) {
   for (int p = 0; p < ps.count; ++p) {
     TEST_FLOATING_EQUALITY(area[p], 4 * hs(p, 0) * hs(p, 1), 1e-12);
     const ParticleStencil<UniformGimp> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-    for (int a = 0; a < st.ni; ++a)
-      for (int b = 0; b < st.nj; ++b) {
-        const auto it = fromPairs[p].find({st.i0 + a, st.j0 + b});
+    for (int a = 0; a < st.count[0]; ++a)
+      for (int b = 0; b < st.count[1]; ++b) {
+        const auto it = fromPairs[p].find({st.first[0] + a, st.first[1] + b});
         const std::array<double, 3> e = it == fromPairs[p].end() ? std::array<double, 3>{0, 0, 0} : it->second;
         TEST_COMPARE(std::abs(e[0] - st.weight(a, b)), <, 1e-12);
         TEST_COMPARE(std::abs(e[1] - st.gradX(a, b)), <, 1e-10 / g.hx);

@@ -29,12 +29,12 @@ void checkPartitionOfUnity(Teuchos::FancyOStream& out, bool& success) {
     const double x = ux(rng), y = uy(rng), lx = frac(rng) * g.hx, ly = frac(rng) * g.hy;
     const ParticleStencil<Shape> st(g, x, y, lx, ly);
     double sum = 0, gxs = 0, gys = 0, firstMomentX = 0;
-    for (int a = 0; a < st.ni; ++a)
-      for (int b = 0; b < st.nj; ++b) {
+    for (int a = 0; a < st.count[0]; ++a)
+      for (int b = 0; b < st.count[1]; ++b) {
         sum += st.weight(a, b);
         gxs += st.gradX(a, b);
         gys += st.gradY(a, b);
-        firstMomentX += st.weight(a, b) * g.nodeX(st.i0 + a);
+        firstMomentX += st.weight(a, b) * g.nodeX(st.first[0] + a);
       }
     TEST_FLOATING_EQUALITY(sum, 1.0, 1e-13);
     TEST_COMPARE(std::abs(gxs), <, 1e-12 / g.hx);
@@ -87,7 +87,7 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, GimpStencilIsComplete) {
     const double l = 0.25 * g.hx;
     const ParticleStencil<UniformGimp> st(g, x, g.y0 + 2.5 * g.hy, l, 0.1 * g.hy);
     for (int i = 0; i <= g.nx; ++i) {
-      if (i >= st.i0 && i < st.i0 + st.ni) continue;
+      if (i >= st.first[0] && i < st.first[0] + st.count[0]) continue;
       TEST_EQUALITY_CONST(UniformGimp::value(x - g.nodeX(i), g.hx, l), 0.0);
     }
   }

@@ -24,15 +24,23 @@ Teuchos::Array<double> columnSums(const MultiVector& mv) {
   return sums;
 }
 
-template <class Shape>
+template <class Shape, int Dim>
 void checkConservation(Teuchos::FancyOStream& out, bool& success) {
+  using A = AccumColumns<Dim>;
+  using K = KinColumns<Dim>;
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
   g.nx = 16; g.ny = 6; g.hx = 0.25; g.hy = 0.5;
-  GridDistribution dist(g, comm);
   RectangularBody body{0.5, 3.5, 0.5, 2.5, 3, 2, 0.1};
-  LinearElastic mat{1e6, 0.25, 1000.0};
+  if (Dim == 3) {
+    g.dim = 3; g.nz = 4; g.hz = 0.3;
+    body.zMin = 0.3; body.zMax = 0.9; body.particlesPerCellZ = 2;
+  }
+  GridDistribution dist(g, comm);
+  LinearElastic mat(std::vector<ElasticParameters>{{1e6, 0.25, 1000.0}},
+                    Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
+  TEST_EQUALITY(ps.dim, Dim);
 
   // Jitter positions (within the cell, keeping ownership) and give random velocities.
   std::mt19937 rng(11 + comm->getRank());
@@ -41,79 +49,84 @@ void checkConservation(Teuchos::FancyOStream& out, bool& success) {
   auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.v);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.halfSize);
   auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.mass);
-  double local[3] = {0, 0, 0};
+  double local[1 + Dim] = {};
   for (int p = 0; p < ps.count; ++p) {
-    x(p, 0) += jitter(rng) * hs(p, 0);
-    x(p, 1) += jitter(rng) * hs(p, 1);
-    v(p, 0) = vel(rng); v(p, 1) = vel(rng);
-    local[0] += m(p); local[1] += m(p) * v(p, 0); local[2] += m(p) * v(p, 1);
+    local[0] += m(p);
+    for (int d = 0; d < Dim; ++d) {
+      x(p, d) += jitter(rng) * hs(p, d);
+      v(p, d) = vel(rng);
+      local[1 + d] += m(p) * v(p, d);
+    }
   }
   Kokkos::deep_copy(ps.x, x);
   Kokkos::deep_copy(ps.v, v);
-  double particleTotals[3];
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 3, local, particleTotals);
+  double particleTotals[1 + Dim];
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 1 + Dim, local, particleTotals);
 
-  GridFields f(dist);
+  GridFields f(dist, A::Count, K::Count);
   f.accumGhosted->putScalar(0.0);
   {
     auto grid = f.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    particleToGridMassMomentum<ExecutionSpace, Shape>(g, dist.ghostedIndexer(), ps, grid, accum::Mass, accum::MomX);
+    particleToGridMassMomentum<ExecutionSpace, Shape, Dim>(g, dist.ghostedIndexer(), ps, grid, A::Mass, A::MomX);
   }
   f.exportAccumulated();
   // Grid totals over owned nodes equal the particle totals.
   const Teuchos::Array<double> sums = columnSums(*f.accumOwned);
-  TEST_FLOATING_EQUALITY(sums[accum::Mass], particleTotals[0], 1e-13);
-  TEST_FLOATING_EQUALITY(sums[accum::MomX], particleTotals[1], 1e-12);
-  TEST_FLOATING_EQUALITY(sums[accum::MomY], particleTotals[2], 1e-12);
+  TEST_FLOATING_EQUALITY(sums[A::Mass], particleTotals[0], 1e-13);
+  for (int d = 0; d < Dim; ++d) TEST_FLOATING_EQUALITY(sums[A::MomX + d], particleTotals[1 + d], 1e-12);
 
   // Grid velocity, then a PIC transfer back: the particle momentum is unchanged.
   {
     auto acc = f.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto kinv = f.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
     Kokkos::parallel_for("test_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-      const double mn = acc(n, accum::Mass);
-      kinv(n, kin::VelX) = mn > 0 ? acc(n, accum::MomX) / mn : 0.0;
-      kinv(n, kin::VelY) = mn > 0 ? acc(n, accum::MomY) / mn : 0.0;
-      kinv(n, kin::AccX) = 0.0;
-      kinv(n, kin::AccY) = 0.0;
+      const double mn = acc(n, A::Mass);
+      for (int d = 0; d < Dim; ++d) {
+        kinv(n, K::VelX + d) = mn > 0 ? acc(n, A::MomX + d) / mn : 0.0;
+        kinv(n, K::AccX + d) = 0.0;
+      }
     });
   }
   f.importKinematics();
   {
     auto kinv = f.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridToParticleExplicit<ExecutionSpace, Shape>(g, dist.ghostedIndexer(), ps, kinv, 1e-3, 0.0, false,
-                                                  LinearElastic{}.law(), false);
+    gridToParticleExplicit<ExecutionSpace, Shape, Dim>(g, dist.ghostedIndexer(), ps, kinv, 1e-3, 0.0, false, mat.law(),
+                                                       false);
   }
   Kokkos::deep_copy(v, ps.v);
-  double after[2] = {0, 0}, afterTotals[2];
-  for (int p = 0; p < ps.count; ++p) { after[0] += m(p) * v(p, 0); after[1] += m(p) * v(p, 1); }
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 2, after, afterTotals);
-  TEST_FLOATING_EQUALITY(afterTotals[0], particleTotals[1], 1e-12);
-  TEST_FLOATING_EQUALITY(afterTotals[1], particleTotals[2], 1e-12);
+  double after[Dim] = {}, afterTotals[Dim];
+  for (int p = 0; p < ps.count; ++p)
+    for (int d = 0; d < Dim; ++d) after[d] += m(p) * v(p, d);
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, Dim, after, afterTotals);
+  for (int d = 0; d < Dim; ++d) TEST_FLOATING_EQUALITY(afterTotals[d], particleTotals[1 + d], 1e-12);
 
   // Internal forces of any stress field sum to zero (no net force from inside the body).
   {
-    Kokkos::View<double* [4], Kokkos::LayoutRight, DeviceType> stress("stress", ps.count);
+    Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> stress("stress", ps.count, StressLayout<Dim>::count);
     auto sh = Kokkos::create_mirror_view(stress);
-    for (int p = 0; p < ps.count; ++p) for (int c = 0; c < 3; ++c) sh(p, c) = vel(rng) * 1e3;
+    for (int p = 0; p < ps.count; ++p)
+      for (int c = 0; c < StressLayout<Dim>::count; ++c) sh(p, c) = vel(rng) * 1e3;
     Kokkos::deep_copy(stress, sh);
     f.accumGhosted->putScalar(0.0);
     {
       auto grid = f.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
-      accumulateInternalForce<ExecutionSpace, Shape>(g, dist.ghostedIndexer(), ps, stress, grid, accum::FintX);
+      accumulateInternalForce<ExecutionSpace, Shape, Dim>(g, dist.ghostedIndexer(), ps, stress, grid, A::FintX);
     }
     f.exportAccumulated();
     const Teuchos::Array<double> fs = columnSums(*f.accumOwned);
-    Teuchos::Array<double> mags(accum::Count);
+    Teuchos::Array<double> mags(A::Count);
     f.accumOwned->norm1(mags());
-    TEST_COMPARE(std::abs(fs[accum::FintX]), <, 1e-12 * mags[accum::FintX]);
-    TEST_COMPARE(std::abs(fs[accum::FintY]), <, 1e-12 * mags[accum::FintY]);
-    TEST_COMPARE(mags[accum::FintX], >, 0.0);
+    for (int d = 0; d < Dim; ++d) {
+      TEST_COMPARE(std::abs(fs[A::FintX + d]), <, 1e-12 * mags[A::FintX + d]);
+      TEST_COMPARE(mags[A::FintX + d], >, 0.0);
+    }
   }
 }
 
-TEUCHOS_UNIT_TEST(Transfer, MpmConservesMassAndMomentum) { checkConservation<LinearMpm>(out, success); }
-TEUCHOS_UNIT_TEST(Transfer, GimpConservesMassAndMomentum) { checkConservation<UniformGimp>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, MpmConservesMassAndMomentum) { checkConservation<LinearMpm, 2>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, GimpConservesMassAndMomentum) { checkConservation<UniformGimp, 2>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, Mpm3dConservesMassAndMomentum) { checkConservation<LinearMpm, 3>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, Gimp3dConservesMassAndMomentum) { checkConservation<UniformGimp, 3>(out, success); }
 
 }  // namespace
 

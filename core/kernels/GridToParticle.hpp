@@ -1,4 +1,5 @@
-// Grid-to-particle: interpolation of grid fields and of their gradients to particles.
+// Grid-to-particle: interpolation of grid fields and of their gradients to particles. Vector
+// fields take Dim consecutive grid columns.
 #pragma once
 
 #include "core/GridDistribution.hpp"
@@ -15,61 +16,71 @@ namespace impm {
 // The weights are those of the particle position at the start of the step.
 // With `updateStressNow` (USL), the stress update with dt * gradient_p through `law` runs in
 // the same pass.
-template <class ExecSpace, class Shape, class Law, class GridView>
+template <class ExecSpace, class Shape, int Dim, class Law, class GridView>
 void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                             const GridView& kinematics, double dt, double flip, bool movePositions,
                             const Law& law, bool updateStressNow) {
+  using K = KinColumns<Dim>;
   auto x = ps.x; auto v = ps.v; auto a = ps.a; auto L = ps.gradient;
-  gatherFromGrid<ExecSpace, Shape>("g2p", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape>& st) {
-    double vx = 0, vy = 0, ax = 0, ay = 0, l00 = 0, l01 = 0, l10 = 0, l11 = 0;
-    st.forEachNode(ix, [&](int n, double w, double dx, double dy) {
-      const double gvx = kinematics(n, kin::VelX), gvy = kinematics(n, kin::VelY);
-      vx += w * gvx; vy += w * gvy;
-      ax += w * kinematics(n, kin::AccX); ay += w * kinematics(n, kin::AccY);
-      l00 += gvx * dx; l01 += gvx * dy; l10 += gvy * dx; l11 += gvy * dy;
+  gatherFromGrid<ExecSpace, Shape, Dim>("g2p", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
+    double vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {};
+    st.forEachNode(ix, [&](int n, double w, const double* dw) {
+      for (int i = 0; i < Dim; ++i) {
+        const double gv = kinematics(n, K::VelX + i);
+        vi[i] += w * gv;
+        ai[i] += w * kinematics(n, K::AccX + i);
+        for (int j = 0; j < Dim; ++j) grad[i][j] += gv * dw[j];
+      }
     });
-    v(p, 0) = flip * (v(p, 0) + dt * ax) + (1.0 - flip) * vx;
-    v(p, 1) = flip * (v(p, 1) + dt * ay) + (1.0 - flip) * vy;
-    a(p, 0) = ax; a(p, 1) = ay;
-    if (updateStressNow) updateParticleState(ps, law, p, dt * l00, dt * l01, dt * l10, dt * l11);
-    else { L(p, 0, 0) = l00; L(p, 0, 1) = l01; L(p, 1, 0) = l10; L(p, 1, 1) = l11; }
-    if (movePositions) {
-      x(p, 0) += dt * vx;
-      x(p, 1) += dt * vy;
+    for (int i = 0; i < Dim; ++i) {
+      v(p, i) = flip * (v(p, i) + dt * ai[i]) + (1.0 - flip) * vi[i];
+      a(p, i) = ai[i];
     }
+    if (updateStressNow) {
+      for (int i = 0; i < Dim; ++i)
+        for (int j = 0; j < Dim; ++j) grad[i][j] *= dt;
+      updateParticleState<Dim>(ps, law, p, grad);
+    } else {
+      for (int i = 0; i < Dim; ++i)
+        for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];
+    }
+    if (movePositions)
+      for (int i = 0; i < Dim; ++i) x(p, i) += dt * vi[i];
   });
 }
 
-// gradient_p = sum_i grad S_ip (x) w_i for a two-component grid field in columns col, col+1.
-template <class ExecSpace, class Shape, class GridView>
+// gradient_p = sum_i grad S_ip (x) w_i for a grid vector field in columns col...
+template <class ExecSpace, class Shape, int Dim, class GridView>
 void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                              const GridView& field, int col) {
   auto L = ps.gradient;
-  gatherFromGrid<ExecSpace, Shape>("grid_gradient", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape>& st) {
-    double l00 = 0, l01 = 0, l10 = 0, l11 = 0;
-    st.forEachNode(ix, [&](int n, double, double dx, double dy) {
-      const double wx = field(n, col), wy = field(n, col + 1);
-      l00 += wx * dx; l01 += wx * dy; l10 += wy * dx; l11 += wy * dy;
+  gatherFromGrid<ExecSpace, Shape, Dim>("grid_gradient", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
+    double grad[Dim][Dim] = {};
+    st.forEachNode(ix, [&](int n, double, const double* dw) {
+      for (int i = 0; i < Dim; ++i) {
+        const double wi = field(n, col + i);
+        for (int j = 0; j < Dim; ++j) grad[i][j] += wi * dw[j];
+      }
     });
-    L(p, 0, 0) = l00; L(p, 0, 1) = l01; L(p, 1, 0) = l10; L(p, 1, 1) = l11;
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];
   });
 }
 
-// target_p = (accumulate ? target_p : 0) + scale * sum_i S_ip w_i for a two-component grid
-// field w in columns col, col+1. MUSL/USF move particles with it (target x, scale dt); the
+// target_p = (accumulate ? target_p : 0) + scale * sum_i S_ip w_i for a grid vector field in
+// columns col... MUSL moves the particles with the re-mapped velocity this way, and the
 // implicit integrator hands the initial grid acceleration to the particles (target a).
-template <class ExecSpace, class Shape, class GridView>
+template <class ExecSpace, class Shape, int Dim, class GridView>
 void interpolateToParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                            const GridView& field, int col, const ParticleSet::Vec2& target, double scale,
+                            const GridView& field, int col, const ParticleSet::Vec& target, double scale,
                             bool accumulate) {
-  gatherFromGrid<ExecSpace, Shape>(
-      "interpolate_to_particles", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape>& st) {
-        double wx = 0, wy = 0;
-        st.forEachNode(ix, [&](int n, double w, double, double) {
-          wx += w * field(n, col); wy += w * field(n, col + 1);
+  gatherFromGrid<ExecSpace, Shape, Dim>(
+      "interpolate_to_particles", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
+        double wp[Dim] = {};
+        st.forEachNode(ix, [&](int n, double w, const double*) {
+          for (int d = 0; d < Dim; ++d) wp[d] += w * field(n, col + d);
         });
-        target(p, 0) = (accumulate ? target(p, 0) : 0.0) + scale * wx;
-        target(p, 1) = (accumulate ? target(p, 1) : 0.0) + scale * wy;
+        for (int d = 0; d < Dim; ++d) target(p, d) = (accumulate ? target(p, d) : 0.0) + scale * wp[d];
       });
 }
 

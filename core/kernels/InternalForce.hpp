@@ -8,24 +8,36 @@
 
 namespace impm {
 
-// One particle's contribution, for a stencil already built.
-template <class Shape, class Access>
-KOKKOS_INLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shape>& st, const LocalNodeIndexer& ix,
-                                                 double V, double sxx, double syy, double sxy, Access& out,
-                                                 int forceCol) {
-  st.forEachNode(ix, [&](int n, double, double dx, double dy) {
-    out(n, forceCol) += -V * (sxx * dx + sxy * dy);
-    out(n, forceCol + 1) += -V * (sxy * dx + syy * dy);
+// One particle's contribution, for a stencil already built; s: the stored stress components
+// (StressLayout<Dim>).
+template <class Shape, int Dim, class Access>
+KOKKOS_INLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
+                                                 double V, const double* s, Access& out, int forceCol) {
+  using SL = StressLayout<Dim>;
+  st.forEachNode(ix, [&](int n, double, const double* grad) {
+    for (int i = 0; i < Dim; ++i) {
+      double f = 0;
+      for (int j = 0; j < Dim; ++j) f += s[SL::index(i, j)] * grad[j];
+      out(n, forceCol + i) += -V * f;
+    }
   });
 }
 
-template <class ExecSpace, class Shape, class GridView, class StressView>
+// The stored stress components of particle p of a stress view.
+template <int Dim, class StressView>
+KOKKOS_INLINE_FUNCTION void loadStress(const StressView& stress, int p, double* s) {
+  for (int c = 0; c < StressLayout<Dim>::count; ++c) s[c] = stress(p, c);
+}
+
+template <class ExecSpace, class Shape, int Dim, class GridView, class StressView>
 void accumulateInternalForce(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                              const StressView& stress, const GridView& grid, int forceCol) {
   auto vol = ps.volume;
-  scatterToGrid<ExecSpace, Shape>(
-      "internal_force", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape>& st, auto& out) {
-        scatterInternalForce(st, ix, vol(p), stress(p, 0), stress(p, 1), stress(p, 2), out, forceCol);
+  scatterToGrid<ExecSpace, Shape, Dim>(
+      "internal_force", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
+        double s[StressLayout<Dim>::count];
+        loadStress<Dim>(stress, p, s);
+        scatterInternalForce(st, ix, vol(p), s, out, forceCol);
       });
 }
 

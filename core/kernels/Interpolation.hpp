@@ -3,7 +3,8 @@
 //   scatterToGrid:      p2g into a ghosted grid view through a Kokkos ScatterView (duplicated
 //                       per thread on OpenMP, atomic on GPUs); body(p, stencil, access).
 //   gatherFromGrid:     g2p; body(p, stencil).
-// Inside a body, ParticleStencil::forEachNode(ix, f(n, w, dwdx, dwdy)) visits the nodes.
+// Inside a body, ParticleStencil::forEachNode(ix, f(n, w, grad)) visits the nodes. Both are
+// templated on the dimension Dim (2 or 3) of the particle set.
 #pragma once
 
 #include <Kokkos_ScatterView.hpp>
@@ -13,7 +14,7 @@
 
 namespace impm {
 
-template <class ExecSpace, class Shape, class GridView, class Body>
+template <class ExecSpace, class Shape, int Dim, class GridView, class Body>
 void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const GridView& grid,
                    const Body& body) {
   auto sv = Kokkos::Experimental::create_scatter_view(grid);
@@ -21,19 +22,19 @@ void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         auto out = sv.access();
-        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        const ParticleStencil<Shape, Dim> st(g, x, hs, p);
         body(p, st, out);
       });
   GridView dest = grid;  // contribute() takes a non-const view
   Kokkos::Experimental::contribute(dest, sv);
 }
 
-template <class ExecSpace, class Shape, class Body>
+template <class ExecSpace, class Shape, int Dim, class Body>
 void gatherFromGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const Body& body) {
   auto x = ps.x; auto hs = ps.halfSize;
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
+        const ParticleStencil<Shape, Dim> st(g, x, hs, p);
         body(p, st);
       });
 }

@@ -10,7 +10,7 @@
 //    gradients; the FE reference's particles are Gauss points with their weights as volumes);
 //    for GIMP it uses the averaged gradients and is then the exact derivative of the GIMP
 //    internal force (the seed's integrated stiffness is not). Block = the stencil's nodes.
-// Local dof of block node (a, b): 2 (a + blockNodesX b) + component.
+// Local dof of block node (a, b[, c]): Dim (a + blockNodes[0] (b + blockNodes[1] c)) + component.
 #pragma once
 
 #include "core/ParticleCellPairs.hpp"
@@ -18,46 +18,74 @@
 
 namespace impm {
 
-// Per entry: the block's first node (i, j) and its dense matrix over the block's dofs.
+// Per entry: the block's first node (i, j[, k]) and its dense matrix over the block's dofs.
 struct BlockMatrices {
   int count = 0;
-  int blockNodesX = 2, blockNodesY = 2;  // nodes per direction of a block
-  Kokkos::View<int* [2], Kokkos::LayoutRight, DeviceType> origin;
+  int dim = 2;
+  int blockNodes[3] = {2, 2, 1};  // nodes per direction of a block (1 in z for 2D)
+  Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> origin;  // count x dim
   Kokkos::View<double***, Kokkos::LayoutRight, DeviceType> K;
-  int dofs() const { return 2 * blockNodesX * blockNodesY; }
+  int nodes() const { return blockNodes[0] * blockNodes[1] * blockNodes[2]; }
+  int dofs() const { return dim * nodes(); }
 };
 
 namespace detail {
-// K(k) += w B^T D B for node gradients (gx, gy) of the block's nodes (nn of them), with the
-// material tangent D on (eps_xx, eps_yy, 2 eps_xy).
-template <class KView>
-KOKKOS_INLINE_FUNCTION void addBtDB(const KView& K, int k, int nn, const double* gx, const double* gy, double w,
-                                    const double D[3][3]) {
+// K(k) += w B^T D B for node gradients grad[a][d] of the block's nodes (nn of them), with the
+// material tangent D on the Voigt strains of StressLayout<Dim> (engineering shears).
+template <int Dim, class KView>
+KOKKOS_INLINE_FUNCTION void addBtDB(const KView& K, int k, int nn, const double (*grad)[Dim], double w,
+                                    const double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
+  using SL = StressLayout<Dim>;
+  constexpr int nv = SL::voigt;
   for (int a = 0; a < nn; ++a) {
-    // D B_a for B_a = [[gx, 0], [0, gy], [gy, gx]]: columns for the a's x and y dofs.
-    double DBx[3], DBy[3];
-    for (int r = 0; r < 3; ++r) {
-      DBx[r] = D[r][0] * gx[a] + D[r][2] * gy[a];
-      DBy[r] = D[r][1] * gy[a] + D[r][2] * gx[a];
-    }
-    for (int b = 0; b < nn; ++b) {
-      // B_b^T (D B_a): rows for b's x and y dofs. K is symmetric for a symmetric D.
-      K(k, 2 * b, 2 * a) += w * (gx[b] * DBx[0] + gy[b] * DBx[2]);
-      K(k, 2 * b, 2 * a + 1) += w * (gx[b] * DBy[0] + gy[b] * DBy[2]);
-      K(k, 2 * b + 1, 2 * a) += w * (gy[b] * DBx[1] + gx[b] * DBx[2]);
-      K(k, 2 * b + 1, 2 * a + 1) += w * (gy[b] * DBy[1] + gx[b] * DBy[2]);
-    }
+    // B_a[v][c]: strain component v from displacement component c of node a.
+    double Ba[nv][Dim];
+    for (int v = 0; v < nv; ++v)
+      for (int c = 0; c < Dim; ++c) {
+        const int i = SL::first(v), j = SL::second(v);
+        Ba[v][c] = (c == i ? grad[a][j] : 0.0) + (i != j && c == j ? grad[a][i] : 0.0);
+      }
+    // D B_a
+    double DB[nv][Dim];
+    for (int r = 0; r < nv; ++r)
+      for (int c = 0; c < Dim; ++c) {
+        double sum = 0;
+        for (int v = 0; v < nv; ++v) sum += D[r][v] * Ba[v][c];
+        DB[r][c] = sum;
+      }
+    for (int b = 0; b < nn; ++b)
+      for (int rb = 0; rb < Dim; ++rb) {
+        // row rb of B_b^T: B_b[v][rb]
+        double Bb[nv];
+        for (int v = 0; v < nv; ++v) {
+          const int i = SL::first(v), j = SL::second(v);
+          Bb[v] = (rb == i ? grad[b][j] : 0.0) + (i != j && rb == j ? grad[b][i] : 0.0);
+        }
+        for (int c = 0; c < Dim; ++c) {
+          double sum = 0;
+          for (int v = 0; v < nv; ++v) sum += Bb[v] * DB[v][c];
+          K(k, Dim * b + rb, Dim * a + c) += w * sum;
+        }
+      }
   }
 }
 }  // namespace detail
 
+// The seed's GIMP stiffness (2D only).
 template <class ExecSpace, class Law>
 BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs& pairs, const ParticleSet& ps,
                                const Law& law) {
   BlockMatrices out;
   out.count = pairs.count;
-  out.blockNodesX = out.blockNodesY = 2;
-  out.origin = pairs.cell;
+  out.origin = decltype(out.origin)("overlap_block_origin", pairs.count, 2);
+  {
+    auto O = out.origin; auto C = pairs.cell;
+    Kokkos::parallel_for(
+        "overlap_block_origin", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
+          O(k, 0) = C(k, 0);
+          O(k, 1) = C(k, 1);
+        });
+  }
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
   auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
   auto V = ps.volume; auto hs = ps.halfSize; auto matId = ps.material; auto x = ps.x;
@@ -78,19 +106,19 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
         const double thickness = V(p) / (clippedWidth * clippedHeight);
         const double wq = 0.25 * (b - a) * (d - c) * thickness;
         double D[3][3];
-        law.tangent(matId(p), D);
+        law.template tangent<2>(matId(p), D);
         for (int ix = 0; ix < 2; ++ix)
           for (int iy = 0; iy < 2; ++iy) {
             const double xi = (qx[ix] - cx) / g.hx, eta = (qy[iy] - cy) / g.hy;
             const double Nx[2] = {1.0 - xi, xi}, Ny[2] = {1.0 - eta, eta};
             const double dNx[2] = {-1.0 / g.hx, 1.0 / g.hx}, dNy[2] = {-1.0 / g.hy, 1.0 / g.hy};
-            double gx[4], gy[4];
+            double grad[4][2];
             for (int dj = 0; dj < 2; ++dj)
               for (int di = 0; di < 2; ++di) {
-                gx[di + 2 * dj] = dNx[di] * Ny[dj];
-                gy[di + 2 * dj] = Nx[di] * dNy[dj];
+                grad[di + 2 * dj][0] = dNx[di] * Ny[dj];
+                grad[di + 2 * dj][1] = Nx[di] * dNy[dj];
               }
-            detail::addBtDB(K, k, 4, gx, gy, wq, D);
+            detail::addBtDB<2>(K, k, 4, grad, wq, D);
           }
       });
   return out;
@@ -98,47 +126,57 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
 
 // Blocks are Shape::max_nodes_1d nodes wide (fewer on a grid with fewer node lines); a stencil
 // shorter than that (GIMP near a cell line) sits inside the block, which is shifted to stay
-// inside the grid. With massFactor c > 0
-// the block also gets c times the particle's consistent mass, c m_p S_ap S_bp per component.
-template <class ExecSpace, class Shape, class Law>
+// inside the grid. With massFactor c > 0 the block also gets c times the particle's consistent
+// mass, c m_p S_ap S_bp per component. Block node (a, b[, c]) is local node
+// a + bn_x (b + bn_y c); its dofs are Dim (node) + component.
+template <class ExecSpace, class Shape, int Dim, class Law>
 BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const Law& law,
                                double massFactor = 0.0) {
   constexpr int bn = Shape::max_nodes_1d;
-  const int bnx = bn < g.nx + 1 ? bn : g.nx + 1, bny = bn < g.ny + 1 ? bn : g.ny + 1;
-  const int nd = 2 * bnx * bny;
+  constexpr int maxNodes = Dim == 2 ? bn * bn : bn * bn * bn;
   BlockMatrices out;
   out.count = ps.count;
-  out.blockNodesX = bnx;
-  out.blockNodesY = bny;
-  out.origin = decltype(out.origin)("stencil_block_origin", ps.count);
+  out.dim = Dim;
+  int bnd[3] = {1, 1, 1};
+  for (int d = 0; d < Dim; ++d) bnd[d] = bn < g.cells(d) + 1 ? bn : g.cells(d) + 1;
+  for (int d = 0; d < 3; ++d) out.blockNodes[d] = bnd[d];
+  const int nn = bnd[0] * bnd[1] * bnd[2], nd = Dim * nn;
+  out.origin = decltype(out.origin)("stencil_block_origin", ps.count, Dim);
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("stencil_stiffness", ps.count, nd, nd);
   auto O = out.origin; auto K = out.K;
   auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto m = ps.mass; auto matId = ps.material;
+  const int b0 = bnd[0], b1 = bnd[1], b2 = bnd[2];
   Kokkos::parallel_for(
       "stencil_stiffness", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-        const ParticleStencil<Shape> st(g, x(p, 0), x(p, 1), hs(p, 0), hs(p, 1));
-        const int bi = st.i0 < g.nx + 1 - bnx ? st.i0 : g.nx + 1 - bnx;
-        const int bj = st.j0 < g.ny + 1 - bny ? st.j0 : g.ny + 1 - bny;
-        O(p, 0) = bi;
-        O(p, 1) = bj;
-        double gx[bn * bn], gy[bn * bn], w[bn * bn];
-        for (int n = 0; n < bn * bn; ++n) gx[n] = gy[n] = w[n] = 0.0;
-        for (int a = 0; a < st.countX(); ++a)
-          for (int b = 0; b < st.countY(); ++b) {
-            const int n = (st.i0 + a - bi) + bnx * (st.j0 + b - bj);
-            gx[n] = st.gradX(a, b);
-            gy[n] = st.gradY(a, b);
-            w[n] = st.weight(a, b);
-          }
+        const ParticleStencil<Shape, Dim> st(g, x, hs, p);
+        const int blockN[3] = {b0, b1, b2};
+        int origin[3] = {0, 0, 0};
+        for (int d = 0; d < Dim; ++d) {
+          const int last = g.cells(d) + 1 - blockN[d];
+          origin[d] = st.first[d] < last ? st.first[d] : last;
+          O(p, d) = origin[d];
+        }
+        double grad[maxNodes][Dim], w[maxNodes];
+        for (int n = 0; n < maxNodes; ++n) {
+          w[n] = 0.0;
+          for (int d = 0; d < Dim; ++d) grad[n][d] = 0.0;
+        }
+        st.forEachOffset([&](const int* off, double wn, const double* gn) {
+          int local[3] = {0, 0, 0};
+          for (int d = 0; d < Dim; ++d) local[d] = st.first[d] + off[d] - origin[d];
+          const int n = local[0] + b0 * (local[1] + b1 * local[2]);
+          w[n] = wn;
+          for (int d = 0; d < Dim; ++d) grad[n][d] = gn[d];
+        });
         for (int r = 0; r < nd; ++r)
           for (int c = 0; c < nd; ++c) K(p, r, c) = 0.0;
-        double D[3][3];
-        law.tangent(matId(p), D);
-        detail::addBtDB(K, p, bnx * bny, gx, gy, V(p), D);
+        double D[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt];
+        law.template tangent<Dim>(matId(p), D);
+        detail::addBtDB<Dim>(K, p, nn, grad, V(p), D);
         if (massFactor > 0.0)
-          for (int a = 0; a < bnx * bny; ++a)
-            for (int b = 0; b < bnx * bny; ++b)
-              for (int c = 0; c < 2; ++c) K(p, 2 * a + c, 2 * b + c) += massFactor * m(p) * w[a] * w[b];
+          for (int a = 0; a < nn; ++a)
+            for (int b = 0; b < nn; ++b)
+              for (int c = 0; c < Dim; ++c) K(p, Dim * a + c, Dim * b + c) += massFactor * m(p) * w[a] * w[b];
       });
   return out;
 }

@@ -1,35 +1,56 @@
 // The particle update from a displacement-gradient increment G (explicit: dt grad v; implicit:
 // grad u of the step): the stress through the material law, the deformation gradient
 // F <- (I + G) F and the volume V = V0 det F. Templated on the law (physics/LinearElastic.hpp
-// is one): the law sees only its material id, the old stress and G. The FE reference keeps its
-// Gauss points' volumes (small strain on the undeformed mesh): updateVolume = false.
+// is one) and the dimension: the law sees only its material id, the old stress and G. The FE
+// reference keeps its Gauss points' volumes (small strain on the undeformed mesh):
+// updateVolume = false.
 #pragma once
 
 #include "core/ParticleSet.hpp"
 
 namespace impm {
 
-template <class Law>
-KOKKOS_INLINE_FUNCTION void updateParticleState(const ParticleSet& ps, const Law& law, int p, double dxx, double dxy,
-                                                double dyx, double dyy, bool updateVolume = true) {
-  double s[4] = {ps.stress(p, 0), ps.stress(p, 1), ps.stress(p, 2), ps.stress(p, 3)};
-  law.stress(ps.material(p), s, dxx, dxy, dyx, dyy, s);
-  for (int c = 0; c < 4; ++c) ps.stress(p, c) = s[c];
-  const double f00 = ps.F(p, 0, 0), f01 = ps.F(p, 0, 1), f10 = ps.F(p, 1, 0), f11 = ps.F(p, 1, 1);
-  const double n00 = (1 + dxx) * f00 + dxy * f10, n01 = (1 + dxx) * f01 + dxy * f11;
-  const double n10 = dyx * f00 + (1 + dyy) * f10, n11 = dyx * f01 + (1 + dyy) * f11;
-  ps.F(p, 0, 0) = n00; ps.F(p, 0, 1) = n01; ps.F(p, 1, 0) = n10; ps.F(p, 1, 1) = n11;
-  if (updateVolume) ps.volume(p) = ps.volume0(p) * (n00 * n11 - n01 * n10);
+template <int Dim>
+KOKKOS_INLINE_FUNCTION double determinant(const double (&F)[Dim][Dim]) {
+  if constexpr (Dim == 2) {
+    return F[0][0] * F[1][1] - F[0][1] * F[1][0];
+  } else {
+    return F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) - F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+           F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+  }
+}
+
+// G[i][j] = d(increment)_i / dx_j.
+template <int Dim, class Law>
+KOKKOS_INLINE_FUNCTION void updateParticleState(const ParticleSet& ps, const Law& law, int p, const double (&G)[Dim][Dim],
+                                                bool updateVolume = true) {
+  constexpr int ns = StressLayout<Dim>::count;
+  double s[ns];
+  for (int c = 0; c < ns; ++c) s[c] = ps.stress(p, c);
+  law.template stress<Dim>(ps.material(p), s, G, s);
+  for (int c = 0; c < ns; ++c) ps.stress(p, c) = s[c];
+  double Fn[Dim][Dim];
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j) {
+      double f = ps.F(p, i, j);
+      for (int k = 0; k < Dim; ++k) f += G[i][k] * ps.F(p, k, j);
+      Fn[i][j] = f;
+    }
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j) ps.F(p, i, j) = Fn[i][j];
+  if (updateVolume) ps.volume(p) = ps.volume0(p) * determinant<Dim>(Fn);
 }
 
 // Every particle with G = scale * ps.gradient (explicit: grad v and dt; implicit: grad u and 1).
-template <class ExecSpace, class Law>
+template <class ExecSpace, int Dim, class Law>
 void updateStress(const ParticleSet& ps, const Law& law, double scale, bool updateVolume = true) {
   auto L = ps.gradient;
   Kokkos::parallel_for(
       "stress_update", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-        updateParticleState(ps, law, p, scale * L(p, 0, 0), scale * L(p, 0, 1), scale * L(p, 1, 0), scale * L(p, 1, 1),
-                              updateVolume);
+        double G[Dim][Dim];
+        for (int i = 0; i < Dim; ++i)
+          for (int j = 0; j < Dim; ++j) G[i][j] = scale * L(p, i, j);
+        updateParticleState<Dim>(ps, law, p, G, updateVolume);
       });
 }
 

@@ -17,7 +17,7 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
   auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.stress);
   auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.mass);
   auto V = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.volume);
-  const int n = ps.count;
+  const int n = ps.count, dim = ps.dim, ns = ps.stressCount();
   const std::string tmp = path + ".tmp";
   {
     std::ofstream f(tmp);
@@ -26,7 +26,7 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
     f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n";
     f << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << x(p, 0) << ' ' << x(p, 1) << " 0\n";
+    for (int p = 0; p < n; ++p) f << x(p, 0) << ' ' << x(p, 1) << ' ' << (dim == 3 ? x(p, 2) : 0.0) << '\n';
     f << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
     for (int p = 0; p < n; ++p) f << p << '\n';
     f << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
@@ -36,14 +36,18 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
     f << "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">\n";
     auto vec3 = [&](const char* name, auto get) {
       f << "<DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-      for (int p = 0; p < n; ++p) f << get(p, 0) << ' ' << get(p, 1) << " 0\n";
+      for (int p = 0; p < n; ++p) f << get(p, 0) << ' ' << get(p, 1) << ' ' << (dim == 3 ? get(p, 2) : 0.0) << '\n';
       f << "</DataArray>\n";
     };
     vec3("displacement", [&](int p, int d) { return fixed ? u(p, d) : x(p, d) - x0(p, d); });
     vec3("velocity", [&](int p, int d) { return v(p, d); });
     vec3("acceleration", [&](int p, int d) { return a(p, d); });
-    f << "<DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"4\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << s(p, 0) << ' ' << s(p, 1) << ' ' << s(p, 2) << ' ' << s(p, 3) << '\n';
+    // Stress as stored: xx, yy, xy, zz (and yz, xz in 3D).
+    f << "<DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"" << ns << "\" format=\"ascii\">\n";
+    for (int p = 0; p < n; ++p) {
+      for (int c = 0; c < ns; ++c) f << (c ? " " : "") << s(p, c);
+      f << '\n';
+    }
     f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"mass\" format=\"ascii\">\n";
     for (int p = 0; p < n; ++p) f << m(p) << '\n';
     f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"volume\" format=\"ascii\">\n";
