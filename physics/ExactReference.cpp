@@ -52,7 +52,7 @@ class BarStep : public ExactReference {
     xMin_ = b.rect.xMin;
     series_ = e.get<std::string>("Form") == "Series";
     terms_ = e.get<int>("Series Terms");
-    bar_ = BarStepExact{b.rect.length(), b.rect.height() * c.thickness, modulus_, c.materials->density(b.material),
+    bar_ = BarStepExact{b.rect.length(), b.rect.height() * c.width(b.rect), modulus_, c.materials->density(b.material),
                         exactLoad(e, c).forceX};
   }
   std::string type() const override { return "Bar Step Load"; }
@@ -118,7 +118,7 @@ class SimplySupportedBeam : public ExactReference {
     modulus_ = modulusFor(e, c, b.material);
     xMin_ = r.xMin;
     terms_ = std::min(e.get<int>("Series Terms"), 400);
-    const double A = r.height() * c.thickness, I = c.thickness * std::pow(r.height(), 3) / 12.0;
+    const double A = r.height() * c.width(r), I = c.width(r) * std::pow(r.height(), 3) / 12.0;
     beam_ = BeamHarmonicExact{r.length(), load.x - r.xMin, modulus_, I, mat.density * A, load.forceY, load.time.omega};
     neutralAxisY_ = 0.5 * (r.yMin + r.yMax);
     timoshenko_ = e.get<std::string>("Beam Theory") == "Timoshenko";
@@ -202,7 +202,7 @@ class LayeredBar : public ExactReference {
       throw DeckError("'Exact Solution/Load' = '" + load.name + "': Layered Bar Step Load needs a Face Traction on face x+ of "
                       "the rightmost body ('Bodies/" + bodies.back()->name + "')");
     try {
-      bar_ = std::make_unique<LayeredBarExact>(segments, height * c.thickness, load.forceX, c.dt * c.steps * 1.0001);
+      bar_ = std::make_unique<LayeredBarExact>(segments, height * c.width(last), load.forceX, c.dt * c.steps * 1.0001);
     } catch (const std::exception& ex) {
       throw DeckError(std::string("'Exact Solution/Type' = Layered Bar Step Load: ") + ex.what());
     }

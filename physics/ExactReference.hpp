@@ -37,7 +37,10 @@ class ExactReference {
 struct ExactContext {
   std::vector<BodySpec> bodies;      // in deck order
   const LinearElastic* materials = nullptr;
-  double thickness = 1;
+  double thickness = 1;              // 2D: out of plane
+  int dimension = 2;                 // 3D: a body's cross-section is its height x depth
+  // The out-of-plane width of a rectangular body: the thickness in 2D, its z extent in 3D.
+  double width(const RectangularBody& r) const { return dimension == 3 ? r.depth() : thickness; }
   std::vector<LoadSpec> loads;
   std::vector<ConstraintSpec> constraints;
   std::string initialCondition;      // Initial Conditions/Type

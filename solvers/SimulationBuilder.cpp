@@ -202,6 +202,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   context.bodies = bodies_;
   context.materials = &materials_;
   context.thickness = thickness_;
+  context.dimension = grid_.dim;
   context.loads = lspecs;
   context.constraints = cspecs;
   context.initialCondition = icType;
