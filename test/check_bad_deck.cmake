@@ -122,6 +122,22 @@ string(REPLACE "  Grid:" "    Memory Limit GB: 1\n  Grid:" good "${good_bar}")
 expect_failure(memory_limit "${ppc}" "Particles Per Cell X: 500\n    Particles Per Cell Y: 500"
                "'Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 500 x 500), more than 'Problem/Memory Limit GB' = 1" NP 2)
 
+# 3D decks (issue 8): a 2D-only option or shape, a bad dimension, a z key on a 2D grid.
+file(READ "${SRC}/../apps/bar3d_explicit_mpm.yaml" good_bar3d)
+file(READ "${SRC}/../apps/bar3d_implicit_gimp.yaml" good_bar3d_implicit_gimp)
+set(good "${good_bar3d}")
+expect_failure(plane_condition_3d "    Dimension: 3" "    Dimension: 3\n    Plane Condition: Plane Stress"
+               "'Grid/Plane Condition' is a 2D idealisation")
+expect_failure(dimension_4 "    Dimension: 3" "    Dimension: 4" "'Grid/Dimension' must be 2 or 3")
+expect_failure(ellipse_3d "      Shape: Rectangle" "      Shape: Ellipse" "'Bodies/bar/Shape' = Ellipse is a 2D shape")
+expect_failure(box_outside_3d "      Z Max: 0.5e-3" "      Z Max: 1.0e-3" "Bodies/bar/Z Max")
+set(good "${good_bar3d_implicit_gimp}")
+expect_failure(seed_gimp_stiffness_3d "    Implicit:" "    Implicit:\n      GIMP Stiffness: Integrated"
+               "'Integrator/Implicit/GIMP Stiffness' = Integrated")
+set(good "${good_bar}")
+expect_failure(z_face_2d "      Face: x-" "      Face: z-" "'Constraints/fixed end/Face' = z- needs 'Grid/Dimension' = 3")
+expect_failure(z_force_2d "      Force X: 1.0" "      Force X: 1.0\n      Force Z: 1.0" "'Loads/end force/Force Z'")
+
 # A diverging explicit run (dt 3.75 times the stable step, allowed by Stability Factor 5): exit
 # 1 with a message that says so (not "particles left the grid"), summary.yaml Status: diverged,
 # history.csv up to the last good step. At np 2 as well: every rank stops.
