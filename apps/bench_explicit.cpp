@@ -1,8 +1,9 @@
 // impm_bench_explicit: speed and memory of the explicit step (USL, FLIP) on a long bar.
 //
-// For linear MPM and for uGIMP it runs a bar of 1000 x 5 cells with 5 x 5 particles per cell
-// (125,000 particles) and prints particle-steps per second at 1 and 2 OpenMP threads, and
-// bytes per particle (particle views, and the process's resident-memory growth).
+// For linear MPM and for uGIMP it runs a 2D bar of 1000 x 5 cells with 5 x 5 particles per cell
+// and a 3D bar of 200 x 5 x 5 cells with 5 x 5 x 5 (125,000 particles each) and prints
+// particle-steps per second at 1 and 2 OpenMP threads, and bytes per particle (particle views,
+// and the process's resident-memory growth).
 // Targets (issue 2): >= 20 M particle-steps/s (MPM) and >= 10 M (GIMP) on 2 threads,
 // <= 300 bytes per particle.
 //
@@ -31,21 +32,26 @@ long residentKiB() {
   return 0;
 }
 
-template <class Shape>
+template <class Shape, int Dim>
 void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   using namespace impm;
   const long rss0 = residentKiB();
   StructuredGrid g;
   g.nx = 1000; g.ny = 5; g.hx = 1e-3; g.hy = 1e-3;
-  GridDistribution dist(g, comm);
-  LinearElastic mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStress};
   RectangularBody body{0.0, 1.0, 0.0, 5e-3, 5, 5, 1e-3};
+  if (Dim == 3) {  // 200 x 5 x 5 cells, 5 x 5 x 5 particles per cell: 125,000 particles too
+    g.nx = 200; g.dim = 3; g.nz = 5; g.hz = 1e-3;
+    body.xMax = 0.2; body.zMin = 0.0; body.zMax = 5e-3; body.particlesPerCellZ = 5;
+  }
+  GridDistribution dist(g, comm);
+  LinearElastic mat(std::vector<ElasticParameters>{{200e9, 0.3, 7800.0}},
+                    Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStress);
   ParticleSet ps = createParticles(body, mat, dist);
   NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
   const LoadSpec load = LoadSpec::faceTraction("end", body, "x+", 1.0, 0.0);
   LoadSet loads({load}, dist, {-1}, 1);
   ExplicitOptions opt;
-  ExplicitStepper<Shape> stepper(ps, dist, mat, bc, loads, opt);
+  ExplicitStepper<Shape, Dim> stepper(ps, dist, mat, bc, loads, opt);
   const double dt = 0.2 * g.hx / mat.pWaveSpeed(0);
   for (int n = 0; n < 5; ++n) stepper.step(n * dt, dt);  // warm-up (first-touch, allocations)
   Kokkos::fence();
@@ -55,10 +61,10 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   Kokkos::fence();
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double rate = double(ps.count) * steps / sec;
-  std::printf("%-5s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s  "
+  std::printf("%-5s %dD threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s  "
               "view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
-              Shape::name, (int)ExecutionSpace::concurrency(), ps.count, steps, sec, rate / 1e6,
-              ParticleSet::bytesPerParticle(), 1024.0 * (rss1 - rss0) / ps.count);
+              Shape::name, Dim, (int)ExecutionSpace::concurrency(), ps.count, steps, sec, rate / 1e6,
+              ParticleSet::bytesPerParticle(Dim), 1024.0 * (rss1 - rss0) / ps.count);
 }
 
 }  // namespace
@@ -72,7 +78,8 @@ int main(int argc, char** argv) {
   }
   if (!child) {
     // One process per thread count: Kokkos fixes its thread count at initialisation.
-    std::printf("impm explicit-step benchmark (USL, FLIP, bar of 1000 x 5 cells, 25 particles per cell)\n");
+    std::printf("impm explicit-step benchmark (USL, FLIP; 2D: bar of 1000 x 5 cells, 5 x 5 particles per cell; "
+                "3D: 200 x 5 x 5 cells, 5 x 5 x 5 per cell; 125,000 particles each)\n");
     std::fflush(stdout);
     int status = 0;
     for (int threads : {1, 2}) {
@@ -84,7 +91,9 @@ int main(int argc, char** argv) {
   }
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
-  runCase<impm::LinearMpm>(steps, comm);
-  runCase<impm::UniformGimp>(steps, comm);
+  runCase<impm::LinearMpm, 2>(steps, comm);
+  runCase<impm::UniformGimp, 2>(steps, comm);
+  runCase<impm::LinearMpm, 3>(steps, comm);
+  runCase<impm::UniformGimp, 3>(steps, comm);
   return 0;
 }
