@@ -2,7 +2,10 @@
 // gradient weights against numerical quadrature of the particle characteristic function.
 #include <Teuchos_UnitTestHarness.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <type_traits>
 
 #include "core/ParticleStencil.hpp"
 
@@ -46,6 +49,62 @@ void checkPartitionOfUnity(Teuchos::FancyOStream& out, bool& success) {
 
 TEUCHOS_UNIT_TEST(ShapeFunctions, LinearMpmPartitionOfUnity) { checkPartitionOfUnity<LinearMpm>(out, success); }
 TEUCHOS_UNIT_TEST(ShapeFunctions, UniformGimpPartitionOfUnity) { checkPartitionOfUnity<UniformGimp>(out, success); }
+
+// The same in 3D through forEachNode/forEachOffset (the kernels' loops): sum S = 1, sum grad S = 0,
+// and linear completeness in every direction, sum S x_i = x_p and sum grad_j S x_i,k = delta_jk
+// (a linear field and its gradient are reproduced exactly). For the quadratic element (Hex27)
+// also sum S x_i^2 = x_p^2 (quadratic completeness).
+template <class Shape>
+void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success) {
+  StructuredGrid g = testGrid();
+  g.dim = 3; g.z0 = 0.2; g.hz = 0.4; g.nz = 8;
+  if (std::is_same<Shape, impm::QuadraticLagrange>::value) g.ny = 10;  // even cell counts
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> frac(0.05, 0.5);
+  impm::LocalNodeIndexer ix{0, g.nx + 1, g.ny + 1, g.nz + 1};
+  double worst = 0;
+  for (int k = 0; k < 1000; ++k) {
+    double xc[3], l[3];
+    for (int d = 0; d < 3; ++d) {
+      std::uniform_real_distribution<double> u(g.origin(d) + g.spacing(d), g.origin(d) + (g.cells(d) - 1) * g.spacing(d));
+      xc[d] = u(rng);
+      l[d] = frac(rng) * g.spacing(d);
+    }
+    const ParticleStencil<Shape, 3> st(g, xc, l);
+    double sum = 0, grad[3] = {0, 0, 0}, moment[3] = {0, 0, 0}, dmoment[3][3] = {}, second = 0;
+    st.forEachOffset([&](const int* off, double w, const double* gr) {
+      double xn[3];
+      for (int d = 0; d < 3; ++d) xn[d] = g.origin(d) + (st.first[d] + off[d]) * g.spacing(d);
+      sum += w;
+      second += w * xn[0] * xn[0];
+      for (int d = 0; d < 3; ++d) {
+        grad[d] += gr[d];
+        moment[d] += w * xn[d];
+        for (int e = 0; e < 3; ++e) dmoment[d][e] += gr[d] * xn[e];
+      }
+    });
+    // forEachNode visits the same nodes with the same weights, by grid index.
+    double sumByIndex = 0;
+    st.forEachNode(ix, [&](int n, double w, const double*) {
+      TEST_ASSERT(n >= 0 && n < ix.size());
+      sumByIndex += w;
+    });
+    worst = std::max(worst, std::abs(sum - 1.0));
+    TEST_FLOATING_EQUALITY(sum, 1.0, 1e-13);
+    TEST_FLOATING_EQUALITY(sumByIndex, sum, 1e-14);
+    for (int d = 0; d < 3; ++d) {
+      TEST_COMPARE(std::abs(grad[d]), <, 1e-12 / g.spacing(d));
+      TEST_FLOATING_EQUALITY(moment[d], xc[d], 1e-12);
+      for (int e = 0; e < 3; ++e) TEST_COMPARE(std::abs(dmoment[d][e] - (d == e ? 1.0 : 0.0)), <, 1e-11);
+    }
+    if (std::is_same<Shape, impm::QuadraticLagrange>::value) TEST_FLOATING_EQUALITY(second, xc[0] * xc[0], 1e-12);
+  }
+  out << Shape::name << " 3D: max |sum S - 1| = " << worst << "\n";
+}
+
+TEUCHOS_UNIT_TEST(ShapeFunctions, LinearMpm3dCompleteness) { checkPartitionOfUnity3d<LinearMpm>(out, success); }
+TEUCHOS_UNIT_TEST(ShapeFunctions, UniformGimp3dCompleteness) { checkPartitionOfUnity3d<UniformGimp>(out, success); }
+TEUCHOS_UNIT_TEST(ShapeFunctions, Hex27Completeness) { checkPartitionOfUnity3d<impm::QuadraticLagrange>(out, success); }
 
 // S_ip = (1/2l) int_{x_p-l}^{x_p+l} N_i(x) dx and G_ip = (1/2l) int dN_i/dx dx, by a fine
 // midpoint rule. The tent's kinks make the rule O(h_q^2) accurate: 1e5 points give ~1e-9.
