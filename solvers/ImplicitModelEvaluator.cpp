@@ -202,6 +202,12 @@ ImplicitModelEvaluator::ImplicitModelEvaluator(
       supportsWop_(supportsWop),
       prec_(prec) {}
 
+void ImplicitModelEvaluator::beginSolve() {
+  P_ = Teuchos::null;  // xOfP_ and diff_ stay allocated; they are only read while P_ is set
+  residualEvaluations_ = 0;
+  jacobianEvaluations_ = 0;
+}
+
 Thyra::ModelEvaluatorBase::InArgs<double> ImplicitModelEvaluator::createInArgs() const {
   Thyra::ModelEvaluatorBase::InArgsSetup<double> inArgs;
   inArgs.setModelEvalDescription(this->description());

@@ -4,8 +4,9 @@
 // Supports IN_ARG_x, OUT_ARG_f, OUT_ARG_W_prec (when a preconditioner is configured) and OUT_ARG_W_op
 // (assembled Newton: W_op is a Thyra::TpetraLinearOp re-pointed at the current P). For Jacobian-free
 // Newton-Krylov wrap it in NOX::MatrixFreeModelEvaluatorDecorator, which supplies the W_op.
-// Built per NewtonSolver::solve() because the unknown map may change between time steps; the
-// preconditioner cache outlives it so that an unchanged matrix graph is not set up again.
+// NewtonSolver keeps one across solve() calls while the ResidualModel and its unknown map are unchanged
+// (beginSolve() between them) and builds a new one when the map changes; the preconditioner cache is
+// owned by the solver, so that an unchanged matrix graph is not set up again either way.
 #pragma once
 
 #include "solvers/ResidualModel.hpp"
@@ -95,8 +96,15 @@ class ImplicitModelEvaluator : public Thyra::StateFuncModelEvaluatorBase<double>
   }
 
   const Teuchos::RCP<const Map>& map() const { return map_; }
+  // Evaluations since construction or the last beginSolve().
   int residualEvaluations() const { return residualEvaluations_; }
   int jacobianEvaluations() const { return jacobianEvaluations_; }
+  // Starts a new solve, possibly of a different residual function on the same map (the next time
+  // step): forgets the matrix P and the point it was assembled at, so that the first W_op / W_prec
+  // request asks the model again, and zeroes the evaluation counters. The preconditioner cache is
+  // not touched (it keeps its symbolic set-up while P is the same static-graph object, and refactors
+  // when ResidualModel::jacobianVersion says the values changed).
+  void beginSolve();
 
  private:
   Thyra::ModelEvaluatorBase::OutArgs<double> createOutArgsImpl() const override;

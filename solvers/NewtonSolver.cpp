@@ -10,6 +10,7 @@
 #include <NOX_Thyra.H>
 #include <NOX_Thyra_MatrixFreeJacobianOperator.hpp>
 #include <Stratimikos_DefaultLinearSolverBuilder.hpp>
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 #include <Thyra_TpetraThyraWrappers.hpp>
 
@@ -17,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -229,7 +231,7 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
   maxKrylov_ = positiveInt(pl, "Maximum Krylov Iterations");
   const bool direct = jacobian_ == JacobianMode::Assembled && assembledSolver_ == AssembledSolver::Amesos2;
 
-  // Matrix-free operator settings (copied; NOX fills its defaults into the copy at each solve).
+  // Matrix-free operator settings (copied; NOX fills its defaults into the copy at each set-up build).
   jfnkParams_ = rcp(new ParameterList(pl.sublist("Jacobian-Free Operator")));
   setDefault(*jfnkParams_, "Difference Type", "Forward");
   setDefault(*jfnkParams_, "Perturbation Algorithm", "Knoll Keyes JCP 2004");
@@ -311,11 +313,44 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
   if (usesPreconditioner()) prec_ = rcp(new IfpackPreconditionerCache(precType_, pl.sublist("Ifpack2")));
 }
 
+// What solve() keeps between calls while the model and its unknown map are unchanged.
+struct NewtonSolver::NoxSetUp {
+  const ResidualModel* model = nullptr;  // compared by address only
+  RCP<const Map> map;                    // the map everything below was built on
+  bool gathered = false;
+  RCP<ImplicitModelEvaluator> me;
+  RCP<NOX::Thyra::MatrixFreeJacobianOperator<double>> jfnkOp;  // null for assembled Newton
+  RCP<NOX::Thyra::Group> group;
+  RCP<NOX::StatusTest::FiniteValue> finite;
+  RCP<NOX::StatusTest::NormF> normF;
+  RCP<DisplacementNormTest> displacement;
+  RCP<EnergyNormTest> energy;
+  RCP<NOX::StatusTest::MaxIters> maxIters;
+  RCP<KrylovObserver> observer;
+  RCP<NOX::Solver::Generic> solver;
+};
+
 NewtonSolver::~NewtonSolver() = default;
 
 bool NewtonSolver::usesPreconditioner() const {
   if (precType_ == "None") return false;
   return jacobian_ == JacobianMode::JacobianFree || assembledSolver_ == AssembledSolver::Belos;
+}
+
+bool NewtonSolver::canReuse(const ResidualModel& model, const Map& map, bool gathered) const {
+  // Decided locally (pointer comparison, else the local part of Map::isSameAs), then agreed on by
+  // one reduction: Map::isSameAs itself short-cuts on pointer equality without communicating, so
+  // calling it where the pointers differ on some ranks only would leave the others waiting.
+  int local = 0;
+  if (nox_ && nox_->model == &model && nox_->gathered == gathered) {
+    const Map& old = *nox_->map;
+    local = &old == &map || (old.getComm()->getSize() == map.getComm()->getSize() &&
+                             old.getGlobalNumElements() == map.getGlobalNumElements() &&
+                             old.getIndexBase() == map.getIndexBase() && old.locallySameAs(map));
+  }
+  int global = 0;
+  Teuchos::reduceAll(*map.getComm(), Teuchos::REDUCE_MIN, local, Teuchos::outArg(global));
+  return global == 1;
 }
 
 NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
@@ -333,57 +368,96 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
   const RCP<PreconditionerCache> prec = gathered ? gatheredDirect_ : prec_;
   const int initsBefore = prec.is_null() ? 0 : prec->initializations();
 
-  // Model evaluator and NOX group, rebuilt per solve (the map may have changed).
-  auto me = rcp(new ImplicitModelEvaluator(model, map, lows, jacobian_ == JacobianMode::Assembled, prec));
-  RCP<Thyra::VectorBase<double>> x0 =
-      Thyra::createVector<Scalar, LO, GO, Node>(rcp(new Vector(u, Teuchos::Copy)), me->get_x_space());
-  const NOX::Thyra::Vector noxX0(x0);
-  RCP<NOX::Thyra::Group> group;
-  RCP<NOX::Thyra::MatrixFreeJacobianOperator<double>> jfnkOp;
-  if (jacobian_ == JacobianMode::JacobianFree) {
-    ParameterList print;
-    print.set("Output Information", static_cast<int>(NOX::Utils::Error));
-    jfnkOp = rcp(new NOX::Thyra::MatrixFreeJacobianOperator<double>(print));
-    jfnkOp->setParameterList(rcp(new ParameterList(*jfnkParams_)));  // before setBaseEvaluationToNOXGroup
-    RCP<Thyra::ModelEvaluator<double>> decorated = rcp(new NOX::MatrixFreeModelEvaluatorDecorator<double>(me));
-    RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : decorated->create_W_prec();
-    group = rcp(new NOX::Thyra::Group(noxX0, decorated, jfnkOp, lows, precOp, Teuchos::null, Teuchos::null));
+  // Whatever goes wrong below (a bad NOX list, a throwing model), the next call starts afresh.
+  struct DropUnlessDone {
+    std::unique_ptr<NoxSetUp>& setUp;
+    bool done = false;
+    ~DropUnlessDone() {
+      if (!done) setUp.reset();
+    }
+  } guard{nox_};
+
+  const auto beforeReduction = clock::now();
+  result.reusedSetUp = canReuse(model, *map, gathered);
+  const auto afterReduction = clock::now();
+  if (!result.reusedSetUp) {
+    // Model evaluator and NOX group for this model and map.
+    nox_.reset();
+    auto s = std::make_unique<NoxSetUp>();
+    s->model = &model;
+    s->map = map;
+    s->gathered = gathered;
+    s->me = rcp(new ImplicitModelEvaluator(model, map, lows, jacobian_ == JacobianMode::Assembled, prec));
+    RCP<Thyra::VectorBase<double>> x0 =
+        Thyra::createVector<Scalar, LO, GO, Node>(rcp(new Vector(u, Teuchos::Copy)), s->me->get_x_space());
+    const NOX::Thyra::Vector noxX0(x0);
+    if (jacobian_ == JacobianMode::JacobianFree) {
+      ParameterList print;
+      print.set("Output Information", static_cast<int>(NOX::Utils::Error));
+      s->jfnkOp = rcp(new NOX::Thyra::MatrixFreeJacobianOperator<double>(print));
+      s->jfnkOp->setParameterList(rcp(new ParameterList(*jfnkParams_)));  // before setBaseEvaluationToNOXGroup
+      RCP<Thyra::ModelEvaluator<double>> decorated = rcp(new NOX::MatrixFreeModelEvaluatorDecorator<double>(s->me));
+      RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : decorated->create_W_prec();
+      s->group = rcp(new NOX::Thyra::Group(noxX0, decorated, s->jfnkOp, lows, precOp, Teuchos::null, Teuchos::null));
+    } else {
+      RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : s->me->create_W_prec();
+      s->group = rcp(new NOX::Thyra::Group(noxX0, s->me, s->me->create_W_op(), lows, precOp, Teuchos::null, Teuchos::null));
+    }
+    nox_ = std::move(s);
+    ++setUpBuilds_;
   } else {
-    RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : me->create_W_prec();
-    group = rcp(new NOX::Thyra::Group(noxX0, me, me->create_W_op(), lows, precOp, Teuchos::null, Teuchos::null));
+    // Same model and map: a new initial guess for the kept group and solver. reset() sets x in the
+    // group, which invalidates every value it holds (F, Jacobian, linear solver with its
+    // preconditioner, Newton direction), and zeroes the solver's iteration count and statistics;
+    // beginSolve() makes the model evaluator forget P, so the next time step's residual function is
+    // evaluated afresh throughout. The status tests re-initialise at iteration 0.
+    NoxSetUp& s = *nox_;
+    s.me->beginSolve();
+    s.observer->iterations.clear();
+    RCP<Thyra::VectorBase<double>> x0 = Thyra::createMember(s.me->get_x_space());
+    Tpetra::deep_copy(*Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getTpetraVector(x0), u);
+    s.solver->reset(NOX::Thyra::Vector(x0));
   }
+  NoxSetUp& s = *nox_;
+  const RCP<ImplicitModelEvaluator>& me = s.me;
   const auto beforeF = clock::now();
-  group->computeF();  // the matrix-free operator needs F at the base point
+  s.group->computeF();  // the matrix-free operator needs F at the base point
   const auto afterF = clock::now();
-  if (!jfnkOp.is_null()) jfnkOp->setBaseEvaluationToNOXGroup(group.create_weak());
+  // The operator points at the group's own x and F vectors; setting it again after a reset is cheap.
+  if (!s.jfnkOp.is_null()) s.jfnkOp->setBaseEvaluationToNOXGroup(s.group.create_weak());
 
-  // Status tests: finite residual, then (NormF OR (displacement AND energy)), then MaxIters.
-  auto finite = rcp(new NOX::StatusTest::FiniteValue);
-  auto normF = rcp(new NOX::StatusTest::NormF(residualTol_, NOX::StatusTest::NormF::Unscaled));
-  auto displacement = rcp(new DisplacementNormTest(displacementTol_));
-  auto energy = rcp(new EnergyNormTest(energyTol_));
-  auto both = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::AND));
-  both->addStatusTest(displacement);
-  both->addStatusTest(energy);
-  auto maxIters = rcp(new NOX::StatusTest::MaxIters(maxNewton_));
-  auto tests = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR));
-  tests->addStatusTest(finite);
-  tests->addStatusTest(normF);
-  tests->addStatusTest(both);
-  tests->addStatusTest(maxIters);
+  if (!result.reusedSetUp) {
+    // Status tests: finite residual, then (NormF OR (displacement AND energy)), then MaxIters.
+    s.finite = rcp(new NOX::StatusTest::FiniteValue);
+    s.normF = rcp(new NOX::StatusTest::NormF(residualTol_, NOX::StatusTest::NormF::Unscaled));
+    s.displacement = rcp(new DisplacementNormTest(displacementTol_));
+    s.energy = rcp(new EnergyNormTest(energyTol_));
+    auto both = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::AND));
+    both->addStatusTest(s.displacement);
+    both->addStatusTest(s.energy);
+    s.maxIters = rcp(new NOX::StatusTest::MaxIters(maxNewton_));
+    auto tests = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR));
+    tests->addStatusTest(s.finite);
+    tests->addStatusTest(s.normF);
+    tests->addStatusTest(both);
+    tests->addStatusTest(s.maxIters);
 
-  auto noxParams = rcp(new ParameterList(*noxParams_));
-  auto observer = rcp(new KrylovObserver);
-  noxParams->sublist("Solver Options").set<RCP<NOX::Observer>>("Observer", observer);
-  RCP<NOX::Solver::Generic> solver;
-  try {
-    solver = NOX::Solver::buildSolver(group, tests, noxParams);
-  } catch (const std::exception& e) {
-    throw std::invalid_argument("invalid " + where("NOX") + ": " + e.what());
-  } catch (const char* e) {  // NOX throws "NOX Error" strings
-    throw std::invalid_argument("invalid " + where("NOX") + ": " + e);
+    auto noxParams = rcp(new ParameterList(*noxParams_));
+    s.observer = rcp(new KrylovObserver);
+    noxParams->sublist("Solver Options").set<RCP<NOX::Observer>>("Observer", s.observer);
+    try {
+      s.solver = NOX::Solver::buildSolver(s.group, tests, noxParams);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument("invalid " + where("NOX") + ": " + e.what());
+    } catch (const char* e) {  // NOX throws "NOX Error" strings
+      throw std::invalid_argument("invalid " + where("NOX") + ": " + e);
+    }
   }
-  result.setupSeconds = seconds(start, beforeF) + seconds(afterF, clock::now());
+  const RCP<NOX::Solver::Generic>& solver = s.solver;
+  // Not counted: the residual at the initial guess, and the reduction deciding on reuse (the first
+  // collective of the call, where a rank waits for the others to finish their previous work).
+  result.setupSeconds =
+      seconds(start, beforeReduction) + seconds(afterReduction, beforeF) + seconds(afterF, clock::now());
 
   NOX::StatusTest::StatusType status;
   try {
@@ -400,10 +474,10 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
 
   result.converged = status == NOX::StatusTest::Converged;
   result.newtonIterations = solver->getNumIterations();
-  result.krylovIterations = observer->iterations;
+  result.krylovIterations = s.observer->iterations;
   result.finalResidualNorm = soln.isF() ? soln.getNormF() : -1.0;
-  result.displacementNorm = displacement->ratio();
-  result.energyNorm = energy->ratio();
+  result.displacementNorm = s.displacement->ratio();
+  result.energyNorm = s.energy->ratio();
   result.residualEvaluations = me->residualEvaluations();
   result.jacobianEvaluations = me->jacobianEvaluations();
   result.preconditionerInitializations = prec.is_null() ? 0 : prec->initializations() - initsBefore;
@@ -414,20 +488,21 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
   const std::string values = "||R|| = " + sci(result.finalResidualNorm) + ", ||du||/||u|| = " +
                              sci(result.displacementNorm) + ", energy ratio = " + sci(result.energyNorm);
   if (result.converged) {
-    if (normF->getStatus() == NOX::StatusTest::Converged)
+    if (s.normF->getStatus() == NOX::StatusTest::Converged)
       why << "converged" << its << ": ||R|| = " << sci(result.finalResidualNorm) << " < Residual Tolerance "
           << sci(residualTol_);
     else
       why << "converged" << its << ": ||du||/||u|| = " << sci(result.displacementNorm) << " <= "
           << sci(displacementTol_) << " and energy ratio = " << sci(result.energyNorm) << " <= " << sci(energyTol_);
-  } else if (finite->getStatus() == NOX::StatusTest::Failed) {
+  } else if (s.finite->getStatus() == NOX::StatusTest::Failed) {
     why << "failed" << its << ": the residual is not finite (NaN or Inf)";
-  } else if (maxIters->getStatus() == NOX::StatusTest::Failed) {
+  } else if (s.maxIters->getStatus() == NOX::StatusTest::Failed) {
     why << "not converged" << its << " (Maximum Newton Iterations = " << maxNewton_ << "): " << values;
   } else {
     why << "NOX stopped" << its << " (status " << status << "; a Newton direction or line search failed): " << values;
   }
   result.reason = why.str();
+  guard.done = true;
   result.solveSeconds = seconds(start, clock::now());
   return result;
 }

@@ -11,6 +11,13 @@
 //
 // Every call here is collective: call the constructor and solve() on all ranks of the map's
 // communicator. The unknown map may change from one solve() to the next.
+//
+// Persistence: the model evaluator, the NOX group (with its Jacobian-free operator and linear solver
+// object), the status tests and the NOX solver are built at the first solve() and kept while later
+// calls pass the same ResidualModel object with the same unknown map (the same Map object, or one
+// with the same global indices on every rank); such a call only resets them to the new initial guess,
+// so that nothing computed for the previous residual function (F, P, the preconditioner's values,
+// the Newton direction) is reused, only structure. Another model or another map rebuilds them.
 #pragma once
 
 #include "core/Types.hpp"
@@ -20,6 +27,7 @@
 #include <Teuchos_RCP.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,8 +52,14 @@ struct NewtonResult {
   int residualEvaluations = 0;  // calls of ResidualModel::residual (J-free products included)
   int jacobianEvaluations = 0;  // calls of ResidualModel::jacobianMatrix
   int preconditionerInitializations = 0;  // Ifpack2 initialize() calls (symbolic setup)
-  double setupSeconds = 0;  // building the model evaluator, NOX group, status tests and solver
+  // Building (or, when reused, resetting) the model evaluator, NOX group, status tests and solver;
+  // excludes the residual at the initial guess and the one reduction that decides on reuse (on several
+  // ranks it absorbs the wait for the slowest one).
+  double setupSeconds = 0;
   double solveSeconds = 0;  // wall time of the whole solve() call
+  // True when this call reused the NOX set-up of the previous call (same model, same unknown map);
+  // false when it was built afresh.
+  bool reusedSetUp = false;
 };
 
 class PreconditionerCache;  // solvers/ImplicitModelEvaluator.hpp
@@ -69,6 +83,9 @@ class NewtonSolver {
   // The validated "Implicit Solver" list (defaults filled in).
   const Teuchos::ParameterList& parameters() const { return *params_; }
 
+  // How many times solve() has built the NOX set-up (model evaluator, group, status tests, solver).
+  int setUpBuilds() const { return setUpBuilds_; }
+
  private:
   enum class JacobianMode { JacobianFree, Assembled };
   enum class AssembledSolver { Amesos2, Belos };
@@ -90,7 +107,16 @@ class NewtonSolver {
   Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> gatheredLowsFactory_;
   Teuchos::RCP<PreconditionerCache> gatheredDirect_;
 
+  // What solve() keeps between calls (solvers/NewtonSolver.cpp); null before the first call and after
+  // a call that threw.
+  struct NoxSetUp;
+  std::unique_ptr<NoxSetUp> nox_;
+  int setUpBuilds_ = 0;
+
   bool usesPreconditioner() const;
+  // Whether nox_ was built for this model and map (collective: one reduction over the map's
+  // communicator, so that every rank takes the same branch).
+  bool canReuse(const ResidualModel& model, const Map& map, bool gathered) const;
 };
 
 }  // namespace impm

@@ -73,7 +73,17 @@ class NewmarkBar : public impm::ResidualModel {
     J_->fillComplete();
   }
 
-  RCP<const Map> unknownMap() const override { return map_; }
+  RCP<const Map> unknownMap() const override {
+    // A new Map object over the same indices (a shallow copy), as a model that rebuilds an unchanged map
+    // would hand out.
+    if (freshMapObject) return rcp(new Map(*map_));
+    return map_;
+  }
+
+  // Scales the nodal loads: the next "time step" of the same model, a different residual function on
+  // the same map.
+  void scaleLoad(double factor) { load_ *= factor; }
+  bool freshMapObject = false;
 
   void residual(const Vector& u, Vector& R) override {
     A_->apply(u, R);
@@ -409,19 +419,144 @@ TEUCHOS_UNIT_TEST(NewtonSolver, MapMayChangeBetweenSolves) {
 }
 
 TEUCHOS_UNIT_TEST(NewtonSolver, SetupCostIsSmall) {
-  // Model evaluator, NOX group, status tests and solver are rebuilt at every solve(): measure them
-  // against the solve itself (printed; loose bound only).
+  // Model evaluator, NOX group, status tests and solver are built at the first solve() and reset at the
+  // next ones (same model and map): measure both against the solve itself (printed; loose bound only).
   for (GO n = 1000; n <= maxSetupSize; n *= 10) {
     for (const char* jac : {"Jacobian-Free", "Assembled"}) {
       NewmarkBar bar(n, kCubic);
       Vector u(bar.unknownMap());
       NewtonSolver solver(params(jac));
       const NewtonResult r = solver.solve(bar, u);
+      bar.scaleLoad(1.1);
+      Vector u2(bar.unknownMap());
+      const NewtonResult r2 = solver.solve(bar, u2);
       out << "  n = " << std::setw(6) << n << " " << std::setw(13) << jac << ": setup " << std::scientific
-          << std::setprecision(2) << r.setupSeconds << " s of " << r.solveSeconds << " s; Newton "
-          << r.newtonIterations << ", residuals " << r.residualEvaluations << "\n";
-      TEST_ASSERT(r.converged);
+          << std::setprecision(2) << r.setupSeconds << " s (reused: " << r2.setupSeconds << " s) of "
+          << r.solveSeconds << " s; Newton " << r.newtonIterations << ", residuals " << r.residualEvaluations
+          << "\n";
+      TEST_ASSERT(r.converged && r2.converged);
+      TEST_ASSERT(!r.reusedSetUp && r2.reusedSetUp);
       TEST_ASSERT(r.setupSeconds < 0.5);
     }
   }
+}
+
+namespace {
+
+// Every per-solve figure of two results, and their solutions, agree exactly (1e-12 relative for u).
+void expectSameSolve(const NewtonResult& a, const Vector& uA, const NewtonResult& b, const Vector& uB,
+                     Teuchos::FancyOStream& out, bool& success) {
+  TEST_ASSERT(a.converged && b.converged);
+  TEST_EQUALITY(a.newtonIterations, b.newtonIterations);
+  TEST_ASSERT(a.krylovIterations == b.krylovIterations);
+  TEST_EQUALITY(a.residualEvaluations, b.residualEvaluations);
+  TEST_EQUALITY(a.jacobianEvaluations, b.jacobianEvaluations);
+  TEST_EQUALITY(a.finalResidualNorm, b.finalResidualNorm);
+  const double d = relDiff(uA, uB);
+  out << "  relative difference of the solutions " << d << "\n";
+  TEST_ASSERT(d <= 1e-12);
+}
+
+}  // namespace
+
+TEUCHOS_UNIT_TEST(NewtonSolver, SetUpPersistsWhileModelAndMapAreUnchanged) {
+  // A sequence of "time steps" of one model (same map, new loads each step) reuses the NOX set-up; each
+  // reused solve matches, to round-off, a new solver on a new model in the same state; another map or
+  // another model rebuilds.
+  for (const char* jac : {"Jacobian-Free", "Assembled"}) {
+    out << jac << ":\n";
+    NewtonSolver solver(params(jac));
+    NewmarkBar a(1000, kCubic);
+    Vector uA(a.unknownMap());
+    const NewtonResult r1 = solver.solve(a, uA);
+    TEST_ASSERT(r1.converged);
+    TEST_ASSERT(!r1.reusedSetUp);
+    TEST_EQUALITY(solver.setUpBuilds(), 1);
+
+    std::vector<double> factors;
+    for (double factor : {1.5, 0.5, 2.0}) {
+      a.scaleLoad(factor);
+      factors.push_back(factor);
+      // Start from the last solution: the first residual then differs from the last one of the previous
+      // solve only through the step data, so a stale F, P or preconditioner would show.
+      const Vector u0(uA, Teuchos::Copy);
+      const NewtonResult r = solver.solve(a, uA);
+      out << "  load x" << factor << " (reused " << r.reusedSetUp << "): " << summarize(r) << "; residuals "
+          << r.residualEvaluations << ", jacobians " << r.jacobianEvaluations << ", initialize() "
+          << r.preconditionerInitializations << "\n";
+      TEST_ASSERT(r.reusedSetUp);
+      TEST_EQUALITY(solver.setUpBuilds(), 1);
+      TEST_ASSERT(r.newtonIterations >= 1);
+      // Same static-graph P object: the preconditioner keeps its symbolic set-up.
+      if (std::string(jac) == "Jacobian-Free") TEST_EQUALITY(r.preconditionerInitializations, 0);
+
+      NewmarkBar fresh(1000, kCubic);
+      for (double f : factors) fresh.scaleLoad(f);
+      Vector uF(fresh.unknownMap());
+      Tpetra::deep_copy(uF, u0);
+      NewtonSolver freshSolver(params(jac));
+      const NewtonResult rF = freshSolver.solve(fresh, uF);
+      TEST_ASSERT(!rF.reusedSetUp);
+      expectSameSolve(r, uA, rF, uF, out, success);
+    }
+
+    // Each step starting from zero on a linear bar: the previous solve assembled P at zero too, and that
+    // P must not be taken for the new step's (jacobianMatrix is asked again, as by a new solver).
+    {
+      NewmarkBar lin(1000, 0.0);
+      NewtonSolver linSolver(params(jac));
+      Vector u(lin.unknownMap());
+      const NewtonResult first = linSolver.solve(lin, u);
+      lin.scaleLoad(3.0);
+      u.putScalar(0.0);
+      const NewtonResult second = linSolver.solve(lin, u);
+      NewmarkBar fresh(1000, 0.0);
+      fresh.scaleLoad(3.0);
+      Vector uF(fresh.unknownMap());
+      const NewtonResult rF = NewtonSolver(params(jac)).solve(fresh, uF);
+      out << "  linear, from zero: jacobians " << first.jacobianEvaluations << ", then " << second.jacobianEvaluations
+          << " (reused " << second.reusedSetUp << "); new solver " << rF.jacobianEvaluations << "\n";
+      TEST_ASSERT(second.reusedSetUp);
+      TEST_ASSERT(second.jacobianEvaluations >= 1);
+      expectSameSolve(second, u, rF, uF, out, success);
+    }
+
+    // Another map rebuilds; so does going back to the first model (another model than the last).
+    NewmarkBar b(700, kCubic);
+    Vector uB(b.unknownMap());
+    const NewtonResult rB = solver.solve(b, uB);
+    TEST_ASSERT(rB.converged && !rB.reusedSetUp);
+    TEST_EQUALITY(solver.setUpBuilds(), 2);
+    uA.putScalar(0.0);
+    const NewtonResult rA = solver.solve(a, uA);
+    TEST_ASSERT(rA.converged && !rA.reusedSetUp);
+    TEST_EQUALITY(solver.setUpBuilds(), 3);
+
+    // The same model handing out a new Map object with the same indices (Map::isSameAs) reuses.
+    a.freshMapObject = true;
+    a.scaleLoad(0.25);
+    factors.push_back(0.25);
+    Vector uA2(a.unknownMap());
+    const NewtonResult rSame = solver.solve(a, uA2);
+    TEST_ASSERT(rSame.reusedSetUp);
+    TEST_EQUALITY(solver.setUpBuilds(), 3);
+    NewmarkBar fresh(1000, kCubic);
+    for (double f : factors) fresh.scaleLoad(f);
+    Vector uF(fresh.unknownMap());
+    const NewtonResult rF = NewtonSolver(params(jac)).solve(fresh, uF);
+    expectSameSolve(rSame, uA2, rF, uF, out, success);
+  }
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, FailedCallRebuildsNext) {
+  // A NOX list that buildSolver rejects throws at the first call and leaves nothing half-built behind:
+  // every call builds again (and throws again), rather than reusing a group without a solver.
+  auto pl = params("Jacobian-Free");
+  pl->sublist("NOX").set("Nonlinear Solver", "No Such Solver");
+  NewtonSolver solver(pl);
+  NewmarkBar a(200, kCubic);
+  Vector u(a.unknownMap());
+  TEST_THROW(solver.solve(a, u), std::invalid_argument);
+  TEST_THROW(solver.solve(a, u), std::invalid_argument);
+  TEST_EQUALITY(solver.setUpBuilds(), 2);
 }
