@@ -152,6 +152,30 @@ struct ParticleSet {
   }
 };
 
+// The particle data as compile-time-shaped views for kernels of dimension Dim: the same memory
+// (unmanaged, no copy) with static extents, so that indexing x(p, d) needs no run-time stride
+// (the run-time-shaped views cost the 2D kernels about 4% of their speed).
+template <int Dim>
+struct FixedParticleViews {
+  using Unmanaged = Kokkos::MemoryTraits<Kokkos::Unmanaged>;
+  using Vec = Kokkos::View<double* [Dim], Kokkos::LayoutRight, DeviceType, Unmanaged>;
+  using Mat = Kokkos::View<double* [Dim][Dim], Kokkos::LayoutRight, DeviceType, Unmanaged>;
+  using Stress = Kokkos::View<double* [StressLayout<Dim>::count], Kokkos::LayoutRight, DeviceType, Unmanaged>;
+  static Vec vec(const ParticleSet::Vec& v) { return Vec(v.data(), v.extent(0)); }
+
+  Vec x, x0, v, a, halfSize;
+  Mat F, gradient;
+  Stress stress;
+  ParticleSet::Scal mass, volume0, volume;
+  ParticleSet::Ids material;
+
+  explicit FixedParticleViews(const ParticleSet& ps)
+      : x(vec(ps.x)), x0(vec(ps.x0)), v(vec(ps.v)), a(vec(ps.a)), halfSize(vec(ps.halfSize)),
+        F(ps.F.data(), ps.F.extent(0)), gradient(ps.gradient.data(), ps.gradient.extent(0)),
+        stress(ps.stress.data(), ps.stress.extent(0)), mass(ps.mass), volume0(ps.volume0), volume(ps.volume),
+        material(ps.material) {}
+};
+
 // The heaviest particle's mass over all ranks (the reference for void grid nodes).
 inline double heaviestParticleMass(const ParticleSet& ps, const Teuchos::Comm<int>& comm) {
   double local = 0.0, global = 0.0;

@@ -22,9 +22,12 @@ struct ParticleStencil {
   template <class PositionView, class SizeView>
   KOKKOS_INLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
                                          const SizeView& halfSize, int p) {
-    for (int d = 0; d < Dim; ++d)
-      build1d(position(p, d), grid.origin(d), grid.spacing(d), halfSize(p, d), grid.cells(d), first[d], count[d], w[d],
-              g[d]);
+    // Written out per direction (not a loop over d) so that each direction's grid constants are
+    // plain members: the 2D kernels kept their speed this way.
+    build1d(position(p, 0), grid.x0, grid.hx, halfSize(p, 0), grid.nx, first[0], count[0], w[0], g[0]);
+    build1d(position(p, 1), grid.y0, grid.hy, halfSize(p, 1), grid.ny, first[1], count[1], w[1], g[1]);
+    if constexpr (Dim == 3)
+      build1d(position(p, 2), grid.z0, grid.hz, halfSize(p, 2), grid.nz, first[2], count[2], w[2], g[2]);
   }
   // From coordinates: (x, y) and half sizes (lx, ly) in 2D.
   KOKKOS_INLINE_FUNCTION

@@ -21,7 +21,8 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
                             const GridView& kinematics, double dt, double flip, bool movePositions,
                             const Law& law, bool updateStressNow) {
   using K = KinColumns<Dim>;
-  auto x = ps.x; auto v = ps.v; auto a = ps.a; auto L = ps.gradient;
+  const FixedParticleViews<Dim> pv(ps);
+  auto x = pv.x; auto v = pv.v; auto a = pv.a; auto L = pv.gradient;
   gatherFromGrid<ExecSpace, Shape, Dim>("g2p", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
     double vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {};
     st.forEachNode(ix, [&](int n, double w, const double* dw) {
@@ -39,7 +40,7 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
     if (updateStressNow) {
       for (int i = 0; i < Dim; ++i)
         for (int j = 0; j < Dim; ++j) grad[i][j] *= dt;
-      updateParticleState<Dim>(ps, law, p, grad);
+      updateParticleState<Dim>(pv, law, p, grad);
     } else {
       for (int i = 0; i < Dim; ++i)
         for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];
@@ -53,7 +54,7 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
 template <class ExecSpace, class Shape, int Dim, class GridView>
 void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                              const GridView& field, int col) {
-  auto L = ps.gradient;
+  auto L = FixedParticleViews<Dim>(ps).gradient;
   gatherFromGrid<ExecSpace, Shape, Dim>("grid_gradient", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
     double grad[Dim][Dim] = {};
     st.forEachNode(ix, [&](int n, double, const double* dw) {
@@ -74,13 +75,14 @@ template <class ExecSpace, class Shape, int Dim, class GridView>
 void interpolateToParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                             const GridView& field, int col, const ParticleSet::Vec& target, double scale,
                             bool accumulate) {
+  auto tgt = FixedParticleViews<Dim>::vec(target);
   gatherFromGrid<ExecSpace, Shape, Dim>(
       "interpolate_to_particles", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
         double wp[Dim] = {};
         st.forEachNode(ix, [&](int n, double w, const double*) {
           for (int d = 0; d < Dim; ++d) wp[d] += w * field(n, col + d);
         });
-        for (int d = 0; d < Dim; ++d) target(p, d) = (accumulate ? target(p, d) : 0.0) + scale * wp[d];
+        for (int d = 0; d < Dim; ++d) tgt(p, d) = (accumulate ? tgt(p, d) : 0.0) + scale * wp[d];
       });
 }
 

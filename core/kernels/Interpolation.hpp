@@ -18,7 +18,8 @@ template <class ExecSpace, class Shape, int Dim, class GridView, class Body>
 void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const GridView& grid,
                    const Body& body) {
   auto sv = Kokkos::Experimental::create_scatter_view(grid);
-  auto x = ps.x; auto hs = ps.halfSize;
+  const FixedParticleViews<Dim> pv(ps);
+  auto x = pv.x; auto hs = pv.halfSize;
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         auto out = sv.access();
@@ -31,7 +32,8 @@ void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet
 
 template <class ExecSpace, class Shape, int Dim, class Body>
 void gatherFromGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const Body& body) {
-  auto x = ps.x; auto hs = ps.halfSize;
+  const FixedParticleViews<Dim> pv(ps);
+  auto x = pv.x; auto hs = pv.halfSize;
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const ParticleStencil<Shape, Dim> st(g, x, hs, p);

@@ -28,7 +28,8 @@ KOKKOS_INLINE_FUNCTION void scatterMassMomentum(const ParticleStencil<Shape, Dim
 template <class ExecSpace, class Shape, int Dim, class GridView>
 void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                 const GridView& grid, int massCol, int momCol, int accCol = -1) {
-  auto m = ps.mass; auto v = ps.v; auto a = ps.a;
+  const FixedParticleViews<Dim> pv(ps);
+  auto m = pv.mass; auto v = pv.v; auto a = pv.a;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double vp[Dim], ap[Dim];
@@ -45,7 +46,8 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
 template <class ExecSpace, class Shape, int Dim, class GridView>
 void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                     const GridView& grid, int massCol, int momCol, int forceCol) {
-  auto m = ps.mass; auto v = ps.v; auto vol = ps.volume; auto stress = ps.stress;
+  const FixedParticleViews<Dim> pv(ps);
+  auto m = pv.mass; auto v = pv.v; auto vol = pv.volume; auto stress = pv.stress;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double vp[Dim], s[StressLayout<Dim>::count];
@@ -65,7 +67,7 @@ template <class ExecSpace, class Shape, int Dim, class FieldView, class GridView
 void particleToGridProjectionResidual(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                       const FieldView& field, int col, const GridView& grid, int outCol,
                                       const ParticleSet::Vec& particleField) {
-  auto m = ps.mass; auto v = particleField;
+  auto m = ps.mass; auto v = FixedParticleViews<Dim>::vec(particleField);
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g_projection_residual", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double f[Dim] = {};
@@ -101,7 +103,8 @@ void particleToGridMassProduct(const StructuredGrid& g, const LocalNodeIndexer& 
 template <class ExecSpace, class Shape, int Dim, class GridView, class IndexView, class ForceView>
 void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                           const IndexView& index, const ForceView& force, const GridView& grid, int forceCol) {
-  auto x = ps.x; auto hs = ps.halfSize;
+  const FixedParticleViews<Dim> pv(ps);
+  auto x = pv.x; auto hs = pv.halfSize;
   Kokkos::parallel_for(
       "p2g_point_forces", Kokkos::RangePolicy<ExecSpace>(0, index.extent(0)), KOKKOS_LAMBDA(int k) {
         const int p = index(k);

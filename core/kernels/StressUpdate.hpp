@@ -22,7 +22,8 @@ KOKKOS_INLINE_FUNCTION double determinant(const double (&F)[Dim][Dim]) {
 
 // G[i][j] = d(increment)_i / dx_j.
 template <int Dim, class Law>
-KOKKOS_INLINE_FUNCTION void updateParticleState(const ParticleSet& ps, const Law& law, int p, const double (&G)[Dim][Dim],
+KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& ps, const Law& law, int p,
+                                                const double (&G)[Dim][Dim],
                                                 bool updateVolume = true) {
   constexpr int ns = StressLayout<Dim>::count;
   double s[ns];
@@ -43,10 +44,11 @@ KOKKOS_INLINE_FUNCTION void updateParticleState(const ParticleSet& ps, const Law
 
 // Every particle with G = scale * ps.gradient (explicit: grad v and dt; implicit: grad u and 1).
 template <class ExecSpace, int Dim, class Law>
-void updateStress(const ParticleSet& ps, const Law& law, double scale, bool updateVolume = true) {
+void updateStress(const ParticleSet& set, const Law& law, double scale, bool updateVolume = true) {
+  const FixedParticleViews<Dim> ps(set);
   auto L = ps.gradient;
   Kokkos::parallel_for(
-      "stress_update", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+      "stress_update", Kokkos::RangePolicy<ExecSpace>(0, set.count), KOKKOS_LAMBDA(int p) {
         double G[Dim][Dim];
         for (int i = 0; i < Dim; ++i)
           for (int j = 0; j < Dim; ++j) G[i][j] = scale * L(p, i, j);
