@@ -14,15 +14,11 @@ template <class Shape, int Dim, class Access>
 KOKKOS_INLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
                                                  double V, const double* s, Access& out, int forceCol) {
   using SL = StressLayout<Dim>;
-  // sigma . grad with the stress components named once (SL::index folded at compile time).
-  double sigma[Dim][Dim];
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j) sigma[i][j] = -V * s[SL::index(i, j)];
   st.forEachNode(ix, [&](int n, double, const double* grad) {
     for (int i = 0; i < Dim; ++i) {
       double f = 0;
-      for (int j = 0; j < Dim; ++j) f += sigma[i][j] * grad[j];
-      out(n, forceCol + i) += f;
+      for (int j = 0; j < Dim; ++j) f += s[SL::index(i, j)] * grad[j];
+      out(n, forceCol + i) += -V * f;
     }
   });
 }
