@@ -27,7 +27,7 @@ class HistoryError(Exception):
 
 
 ENERGY = ("kinetic_energy", "strain_energy", "total_energy")
-MOMENTUM = ("momentum_x", "momentum_y")
+MOMENTUM = ("momentum_x", "momentum_y", "momentum_z")
 
 
 def read_history(path):

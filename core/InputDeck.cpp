@@ -159,10 +159,10 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
     number(*pl, "X Max", 0.0, "box (Where = Box)");
     number(*pl, "Y Min", 0.0, "box (Where = Box)");
     number(*pl, "Y Max", 0.0, "box (Where = Box)");
-    number(*pl, "Z Min", 0.0, "box (Where = Box; 3D)");
-    number(*pl, "Z Max", 0.0, "box (Where = Box; 3D)");
-    choice(*pl, "Components", "xy", {"x", "y", "z", "xy", "xz", "yz", "xyz"},
-           "displacement components fixed to zero (z: 3D only)");
+    number(*pl, "Z Min", -1.0e300, "box (Where = Box; 3D; default: the whole grid in z)");
+    number(*pl, "Z Max", 1.0e300, "box (Where = Box; 3D; default: the whole grid in z)");
+    choice(*pl, "Components", "all", {"all", "x", "y", "z", "xy", "xz", "yz", "xyz"},
+           "displacement components fixed to zero (all: every component of the grid's dimension; z: 3D only)");
   } else if (collection == "Loads") {
     choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force", "Body Force"},
            "uniform traction on a face of a rectangular body (consistent nodal forces), a force on the grid "
@@ -433,8 +433,26 @@ void validateDeck(ParameterList& deck) {
       throw DeckError(std::string("'") + old + "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
                       "'Materials' / 'Bodies')");
   // A 3D deck has no 2D idealisation: a Plane Condition or Thickness it names would be ignored.
-  if (deck.isSublist("Grid") && deck.sublist("Grid").isType<int>("Dimension") &&
-      deck.sublist("Grid").get<int>("Dimension") == 3) {
+  // And a 2D deck must not name z keys of the grid or of a body (a 3D deck that forgot
+  // 'Grid/Dimension' would otherwise run as plane strain without a word).
+  const bool solid = deck.isSublist("Grid") && deck.sublist("Grid").isType<int>("Dimension") &&
+                     deck.sublist("Grid").get<int>("Dimension") == 3;
+  if (!solid) {
+    if (deck.isSublist("Grid"))
+      for (const char* key : {"Cells Z", "Cell Size Z", "Origin Z"})
+        if (deck.sublist("Grid").isParameter(key))
+          throw DeckError(std::string("'Grid/") + key + "' is a 3D key: set 'Grid/Dimension' = 3, or remove it for a 2D deck");
+    if (deck.isSublist("Bodies")) {
+      const ParameterList& bodies = deck.sublist("Bodies");
+      for (auto it = bodies.begin(); it != bodies.end(); ++it)
+        if (bodies.isSublist(bodies.name(it)))
+          for (const char* key : {"Z Min", "Z Max", "Particles Per Cell Z"})
+            if (bodies.sublist(bodies.name(it)).isParameter(key))
+              throw DeckError("'Bodies/" + bodies.name(it) + "/" + key +
+                              "' is a 3D key: set 'Grid/Dimension' = 3, or remove it for a 2D deck");
+    }
+  }
+  if (solid) {
     for (const char* key : {"Plane Condition", "Thickness"})
       if (deck.sublist("Grid").isParameter(key))
         throw DeckError(std::string("'Grid/") + key + "' is a 2D idealisation; a deck with 'Grid/Dimension' = 3 has none (remove it)");

@@ -146,7 +146,7 @@ struct ParticleSet {
     count = n;
   }
 
-  // Bytes held per particle by the views above (216 in 2D, 400 in 3D).
+  // Bytes held per particle by the views above (216 in 2D, 352 in 3D).
   static size_t bytesPerParticle(int dim = 2) {
     return sizeof(double) * (5 * dim + 3 + stressComponents(dim) + 2 * dim * dim) + 2 * sizeof(int) + sizeof(long long);
   }

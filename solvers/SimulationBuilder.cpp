@@ -398,9 +398,20 @@ void Simulation::checkProblemSize(bool implicit) const {
   const double limitGB = deck_.sublist("Problem").get<double>("Memory Limit GB");
   if (!(limitGB >= 0)) throw DeckError("'Problem/Memory Limit GB' must not be negative, got " + formatNumber(limitGB));
   const int ranks = comm_->getSize();
-  const double gridBytes = implicit ? nodes * kBytesPerNodeImplicitVoid + std::min(nodes, 2 * coveredCells) * kBytesPerNodeImplicitActive
-                                    : nodes * kBytesPerNodeExplicit;
-  const double particleBytes = particles * (ParticleSet::bytesPerParticle(grid_.dim) + kFillBytesPerParticlePerRank * ranks);
+  // The implicit figures were measured in 2D; in 3D a node's matrix row couples dim / 2 times
+  // more components with (reach)^3 / (reach)^2 more nodes (reach 3 cells for MPM and FE Q4, 5
+  // for GIMP and FE Q9), and each particle's dense stiffness block holds (dim x nodes)^2
+  // values (24^2 for MPM, 81^2 for GIMP and Hex27; the 2D constants include their blocks).
+  const bool wide = shape_ == "GIMP" || shape_ == "FE Q9";
+  const double reach = wide ? 5.0 : 3.0, blockNodes = wide ? 3.0 : 2.0;
+  const double activeScale = solid ? 1.5 * 1.5 * reach : 1.0;
+  const double blockBytesPerParticle = implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
+  const double gridBytes =
+      implicit ? nodes * kBytesPerNodeImplicitVoid +
+                     std::min(nodes, 2 * coveredCells) * kBytesPerNodeImplicitActive * activeScale
+               : nodes * kBytesPerNodeExplicit;
+  const double particleBytes =
+      particles * (ParticleSet::bytesPerParticle(grid_.dim) + blockBytesPerParticle + kFillBytesPerParticlePerRank * ranks);
   const double needed = ranks * kBytesPerRank + gridBytes + particleBytes;
   auto gigabytes = [](double bytes) { return formatNumber(std::max(0.01, std::round(bytes / 1e7) / 100)) + " GB"; };
   // The machine's memory is read on rank 0 only: every rank takes its verdict.
@@ -479,9 +490,10 @@ std::vector<ConstraintSpec> Simulation::buildConstraints() {
     s.yMin = c.get<double>("Y Min"); s.yMax = c.get<double>("Y Max");
     if (grid_.dim == 3) { s.zMin = c.get<double>("Z Min"); s.zMax = c.get<double>("Z Max"); }
     const std::string comp = c.get<std::string>("Components");
-    s.fixX = comp.find('x') != std::string::npos;
-    s.fixY = comp.find('y') != std::string::npos;
-    s.fixZ = comp.find('z') != std::string::npos;
+    const bool all = comp == "all";
+    s.fixX = all || comp.find('x') != std::string::npos;
+    s.fixY = all || comp.find('y') != std::string::npos;
+    s.fixZ = (all && grid_.dim == 3) || comp.find('z') != std::string::npos;
     if (grid_.dim == 2 && s.fixZ)
       throw DeckError("'" + key + "/Components' = " + comp + " fixes z, which needs 'Grid/Dimension' = 3");
     if (grid_.dim == 2 && s.where == "Face" && s.face[0] == 'z')

@@ -53,6 +53,10 @@ void Simulation::writeSummary(const RunResult& r) const {
     m.set("Initial Y", r.momentumY.front());
     m.set("Final X", r.momentumX.back());
     m.set("Final Y", r.momentumY.back());
+    if (grid_.dim == 3) {
+      m.set("Initial Z", r.momentumZ.front());
+      m.set("Final Z", r.momentumZ.back());
+    }
     m.set("Max Relative Change", r.momentumMaxRelativeChange);
   }
   // Where each monitor sits (its particle's reference position), so that studies can evaluate
@@ -64,6 +68,7 @@ void Simulation::writeSummary(const RunResult& r) const {
     e.set("Particle Id", (long long)m.particleId);
     e.set("X", m.x0);
     e.set("Y", m.y0);
+    if (grid_.dim == 3) e.set("Z", m.z0);
   }
   integrator_->addStatistics(s);
   if (PhaseTimer::enabled()) {

@@ -136,6 +136,7 @@ expect_failure(seed_gimp_stiffness_3d "    Implicit:" "    Implicit:\n      GIMP
                "'Integrator/Implicit/GIMP Stiffness' = Integrated")
 set(good "${good_bar}")
 expect_failure(z_face_2d "      Face: x-" "      Face: z-" "'Constraints/fixed end/Face' = z- needs 'Grid/Dimension' = 3")
+expect_failure(z_key_2d "Cells Y: 1" "Cells Y: 1\n    Cells Z: 4" "'Grid/Cells Z' is a 3D key")
 expect_failure(z_force_2d "      Force X: 1.0" "      Force X: 1.0\n      Force Z: 1.0" "'Loads/end force/Force Z'")
 
 # A diverging explicit run (dt 3.75 times the stable step, allowed by Stability Factor 5): exit

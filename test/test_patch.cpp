@@ -2,7 +2,7 @@
 // on x = 0 and one pinned node, a total force on its x+ face, solved by one implicit step so
 // long (dt = 1e6 s) that inertia is negligible: the static problem. (At dt = 1e4 s the lumped
 // inertia left a stress non-uniformity of 4e-11 (2D) and 4e-10 (3D) of the load; it scales
-// with 1/dt^2.) The 3D block (a cube on a 4 x 4 x 4 grid) checks all six stress components. The load comes
+// with 1/dt^2.) The 3D block (a cube on a 4 x 2 x 6 grid) checks all six stress components. The load comes
 // on after t = 0 (a step at 1 s), so the initial acceleration is zero; a load present at t = 0
 // would give the trapezoidal rule's undamped step response, 2 F / A and 0 in turn. Every method
 // reproduces a linear displacement exactly, so the particle stresses must be uniform,
@@ -50,14 +50,16 @@ ParameterList patchDeck(const std::string& shape, int steps, const std::string& 
   return d;
 }
 
-// The same block in 3D: a 1 m cube filling a 4 x 4 x 4 grid, rollers on x = 0, the node at the
-// origin pinned and the node (0, 1, 0) held in z (no rigid rotation about x); lateral faces free.
-// In 3D FE Q4 is the trilinear Hex8 and FE Q9 the triquadratic Hex27.
+// The same block in 3D: a 1 m cube filling a 4 x 2 x 6 grid (a different cell count and size in
+// each direction, so that a y/z mix-up in numbering, assembly, face loads or fill shows),
+// rollers on x = 0, the node at the origin pinned and the node (0, 1, 0) held in z (no rigid
+// rotation about x); lateral faces free. In 3D FE Q4 is the trilinear Hex8 and FE Q9 the
+// triquadratic Hex27.
 ParameterList patchDeck3d(const std::string& shape, int steps, const std::string& outdir) {
   ParameterList d = patchDeck(shape, steps, outdir);
   d.sublist("Grid").remove("Plane Condition");
   d.sublist("Grid").remove("Thickness");
-  d.sublist("Grid").set("Dimension", 3).set("Cells Z", 4).set("Cell Size Z", 0.25);
+  d.sublist("Grid").set("Dimension", 3).set("Cells Y", 2).set("Cell Size Y", 0.5).set("Cells Z", 6).set("Cell Size Z", 1.0 / 6.0);
   d.sublist("Bodies").sublist("block").set("Z Min", 0.0).set("Z Max", 1.0).set("Particles Per Cell Z", 2);
   auto& c = d.sublist("Constraints");
   c.sublist("pin").set("Components", "xyz");

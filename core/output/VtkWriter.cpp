@@ -42,10 +42,18 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
     vec3("displacement", [&](int p, int d) { return fixed ? u(p, d) : x(p, d) - x0(p, d); });
     vec3("velocity", [&](int p, int d) { return v(p, d); });
     vec3("acceleration", [&](int p, int d) { return a(p, d); });
-    // Stress as stored: xx, yy, xy, zz (and yz, xz in 3D).
-    f << "<DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"" << ns << "\" format=\"ascii\">\n";
+    // Stress. 3D: ParaView reads a 6-component array as the symmetric tensor XX, YY, ZZ, XY, YZ,
+    // XZ, so the stored xx, yy, xy, zz, yz, xz are written in that order. 2D: xx, yy, xy, zz
+    // (zz the out-of-plane stress). Each component is named.
+    const int order3d[6] = {0, 1, 3, 2, 4, 5}, order2d[4] = {0, 1, 2, 3};
+    const int* order = dim == 3 ? order3d : order2d;
+    const char* names3d[6] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+    const char* names2d[4] = {"XX", "YY", "XY", "ZZ"};
+    f << "<DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"" << ns << "\"";
+    for (int c = 0; c < ns; ++c) f << " ComponentName" << c << "=\"" << (dim == 3 ? names3d[c] : names2d[c]) << "\"";
+    f << " format=\"ascii\">\n";
     for (int p = 0; p < n; ++p) {
-      for (int c = 0; c < ns; ++c) f << (c ? " " : "") << s(p, c);
+      for (int c = 0; c < ns; ++c) f << (c ? " " : "") << s(p, order[c]);
       f << '\n';
     }
     f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"mass\" format=\"ascii\">\n";
