@@ -435,26 +435,31 @@ void validateDeck(ParameterList& deck) {
   // A 3D deck has no 2D idealisation: a Plane Condition or Thickness it names would be ignored.
   // And a 2D deck must not name z keys of the grid or of a body (a 3D deck that forgot
   // 'Grid/Dimension' would otherwise run as plane strain without a word).
-  const bool solid = deck.isSublist("Grid") && deck.sublist("Grid").isType<int>("Dimension") &&
-                     deck.sublist("Grid").get<int>("Dimension") == 3;
-  if (!solid) {
+  const bool hasDimension = deck.isSublist("Grid") && deck.sublist("Grid").isType<int>("Dimension");
+  const int dimension = hasDimension ? deck.sublist("Grid").get<int>("Dimension") : 2;
+  const bool solid = dimension == 3;
+  // (Entries that validation filled in as defaults, in a deck validated before, do not count.)
+  auto named = [](const ParameterList& list, const char* key) {
+    return list.isParameter(key) && !list.getEntry(key).isDefault();
+  };
+  if (dimension == 2) {
     if (deck.isSublist("Grid"))
       for (const char* key : {"Cells Z", "Cell Size Z", "Origin Z"})
-        if (deck.sublist("Grid").isParameter(key))
+        if (named(deck.sublist("Grid"), key))
           throw DeckError(std::string("'Grid/") + key + "' is a 3D key: set 'Grid/Dimension' = 3, or remove it for a 2D deck");
     if (deck.isSublist("Bodies")) {
       const ParameterList& bodies = deck.sublist("Bodies");
       for (auto it = bodies.begin(); it != bodies.end(); ++it)
         if (bodies.isSublist(bodies.name(it)))
           for (const char* key : {"Z Min", "Z Max", "Particles Per Cell Z"})
-            if (bodies.sublist(bodies.name(it)).isParameter(key))
+            if (named(bodies.sublist(bodies.name(it)), key))
               throw DeckError("'Bodies/" + bodies.name(it) + "/" + key +
                               "' is a 3D key: set 'Grid/Dimension' = 3, or remove it for a 2D deck");
     }
   }
   if (solid) {
     for (const char* key : {"Plane Condition", "Thickness"})
-      if (deck.sublist("Grid").isParameter(key))
+      if (named(deck.sublist("Grid"), key))
         throw DeckError(std::string("'Grid/") + key + "' is a 2D idealisation; a deck with 'Grid/Dimension' = 3 has none (remove it)");
     if (deck.isSublist("Material") || deck.isSublist("Body"))
       throw DeckError("the single-body form ('Material', 'Body') is 2D; a deck with 'Grid/Dimension' = 3 uses 'Materials' and 'Bodies'");
