@@ -44,7 +44,7 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
     body.xMax = 0.04; body.zMin = 0.0; body.zMax = 5e-3; body.particlesPerCellZ = 5;
   }
   GridDistribution dist(g, comm);
-  LinearElastic mat(std::vector<ElasticParameters>{{200e9, 0.3, 7800.0}},
+  Materials mat(std::vector<MaterialParameters>{{200e9, 0.3, 7800.0}},
                     Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStress);
   ParticleSet ps = createParticles(body, mat, dist);
   NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);

@@ -88,7 +88,7 @@ struct TaggedPoint {
 };
 }  // namespace
 
-ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearElastic& materials,
+ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials& materials,
                             const GridDistribution& dist, Placement placement, double thickness) {
   const StructuredGrid& g = dist.grid();
   const GridBox box{g.x0, g.y0, g.hx, g.hy, g.nx, g.ny};
@@ -192,7 +192,7 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearEla
   return ps;
 }
 
-ParticleSet createParticles(const RectangularBody& body, const LinearElastic& materials, const GridDistribution& dist) {
+ParticleSet createParticles(const RectangularBody& body, const Materials& materials, const GridDistribution& dist) {
   BodySpec spec;
   spec.name = "body";
   spec.rectangle = true;

@@ -11,7 +11,7 @@
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
 #include "physics/BodyShapes.hpp"
-#include "physics/LinearElastic.hpp"
+#include "physics/Materials.hpp"
 
 namespace impm {
 
@@ -52,10 +52,10 @@ struct BodySpec {
 // body's particles replace those of the bodies listed before it inside its shape (an
 // inclusion is written after the plate it sits in). Throws std::invalid_argument naming the
 // body when one has no particle inside the grid.
-ParticleSet createParticles(const std::vector<BodySpec>& bodies, const LinearElastic& materials,
+ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials& materials,
                             const GridDistribution& dist, Placement placement, double thickness);
 
 // One rectangular body of material 0 (tests and benchmarks).
-ParticleSet createParticles(const RectangularBody& body, const LinearElastic& materials, const GridDistribution& dist);
+ParticleSet createParticles(const RectangularBody& body, const Materials& materials, const GridDistribution& dist);
 
 }  // namespace impm

@@ -114,7 +114,7 @@ class SimplySupportedBeam : public ExactReference {
     const BodySpec& b = exactBody(e, c);
     const RectangularBody& r = b.rect;
     const LoadSpec& load = exactLoad(e, c);
-    const ElasticParameters& mat = c.materials->parameters(b.material);
+    const MaterialParameters& mat = c.materials->parameters(b.material);
     modulus_ = modulusFor(e, c, b.material);
     xMin_ = r.xMin;
     terms_ = std::min(e.get<int>("Series Terms"), 400);

@@ -12,7 +12,7 @@
 
 #include "physics/Body.hpp"
 #include "physics/Constraints.hpp"
-#include "physics/LinearElastic.hpp"
+#include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
 
 namespace impm {
@@ -36,7 +36,7 @@ class ExactReference {
 // What the factory needs of the built model.
 struct ExactContext {
   std::vector<BodySpec> bodies;      // in deck order
-  const LinearElastic* materials = nullptr;
+  const Materials* materials = nullptr;
   double thickness = 1;              // 2D: out of plane
   int dimension = 2;                 // 3D: a body's cross-section is its height x depth
   // The out-of-plane width of a rectangular body: the thickness in 2D, its z extent in 3D.

@@ -8,7 +8,7 @@ namespace impm {
 
 template <class Shape, int Dim>
 ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
-                                        const LinearElastic& material, const NodalConstraints& constraints,
+                                        const Materials& material, const NodalConstraints& constraints,
                                         const LoadSet& loads, const ExplicitOptions& options)
     : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), fields_(dist, A::Count, K::Count),
       projection_(dist) {

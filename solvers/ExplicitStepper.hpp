@@ -9,7 +9,7 @@
 #include "core/kernels/InternalForce.hpp"
 #include "core/kernels/ParticleToGrid.hpp"
 #include "physics/Constraints.hpp"
-#include "physics/LinearElastic.hpp"
+#include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
 #include "solvers/ProjectionCorrection.hpp"
@@ -39,7 +39,7 @@ struct ExplicitOptions {
 template <class Shape, int Dim = 2>
 class ExplicitStepper : public Integrator {
  public:
-  ExplicitStepper(ParticleSet& particles, const GridDistribution& dist, const LinearElastic& material,
+  ExplicitStepper(ParticleSet& particles, const GridDistribution& dist, const Materials& material,
                   const NodalConstraints& constraints, const LoadSet& loads, const ExplicitOptions& options);
 
   void step(double t, double dt) override;
@@ -58,7 +58,7 @@ class ExplicitStepper : public Integrator {
 
   ParticleSet& ps_;
   const GridDistribution& dist_;
-  LinearElastic mat_;
+  Materials mat_;
   const NodalConstraints& bc_;
   const LoadSet& loads_;
   ExplicitOptions opt_;

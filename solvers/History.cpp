@@ -11,7 +11,7 @@
 
 namespace impm {
 
-History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, const LinearElastic& materials,
+History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, const Materials& materials,
                  const ExactReference* exact, bool energyAndMomentum,
                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm, double firstTime)
     : monitors_(monitors), particles_(particles), materials_(materials), exact_(exact), energy_(energyAndMomentum),

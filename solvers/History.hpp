@@ -13,7 +13,7 @@
 
 #include "core/ParticleSet.hpp"
 #include "physics/ExactReference.hpp"
-#include "physics/LinearElastic.hpp"
+#include "physics/Materials.hpp"
 
 namespace impm {
 
@@ -48,7 +48,7 @@ class History {
  public:
   // `exact` may be null. `firstTime` is a time at which the exact solution is evaluated to find
   // which monitors it has (NaN: none).
-  History(std::vector<Monitor>& monitors, const ParticleSet& particles, const LinearElastic& materials,
+  History(std::vector<Monitor>& monitors, const ParticleSet& particles, const Materials& materials,
           const ExactReference* exact, bool energyAndMomentum, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
           double firstTime);
 
@@ -67,7 +67,7 @@ class History {
 
   std::vector<Monitor>& monitors_;
   const ParticleSet& particles_;
-  const LinearElastic& materials_;
+  const Materials& materials_;
   const ExactReference* exact_;
   bool energy_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;

@@ -42,7 +42,7 @@ struct ForceColumns {
 
 template <class Shape, int Dim>
 ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist,
-                                        const LinearElastic& material, const NodalConstraints& constraints,
+                                        const Materials& material, const NodalConstraints& constraints,
                                         const LoadSet& loads, const ImplicitOptions& options)
     : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), projection_(dist) {
   solver_ = std::make_unique<NewtonSolver>(opt_.solverParams);
@@ -231,6 +231,7 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
       auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
       const LocalNodeIndexer ix = dist_.ghostedIndexer();
       auto vol = ps_.volume; auto sig = ps_.stress; auto matId = ps_.material;
+      auto Fp = FixedParticleViews<Dim>(ps_).F;
       const auto law = mat_.law();
       scatterToGrid<Exec, Shape, Dim>(
           "implicit_internal_force", dist_.grid(), ps_, f, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
@@ -239,10 +240,22 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
               for (int i = 0; i < Dim; ++i)
                 for (int j = 0; j < Dim; ++j) G[i][j] += d(n, DisplacementColumns<Dim>::UX + i) * dw[j];
             });
+            // The trial state: F = (I + G) F_n and the law's stress there.
+            double F[Dim][Dim];
+            for (int i = 0; i < Dim; ++i)
+              for (int j = 0; j < Dim; ++j) {
+                double fij = Fp(p, i, j);
+                for (int k = 0; k < Dim; ++k) fij += G[i][k] * Fp(p, k, j);
+                F[i][j] = fij;
+              }
             double trial[StressLayout<Dim>::count];
             loadStress<Dim>(sig, p, trial);
-            law.template stress<Dim>(matId(p), trial, G, trial);
-            scatterInternalForce(st, ix, vol(p), trial, out, ForceColumns<Dim>::ForceX);
+            const int m = matId(p);
+            law.template stress<Dim>(m, trial, G, F, trial);
+            if (law.finiteStrain(m))
+              scatterInternalForceDeformed(st, ix, vol(p), trial, G, out, ForceColumns<Dim>::ForceX);
+            else
+              scatterInternalForce(st, ix, vol(p), trial, out, ForceColumns<Dim>::ForceX);
           });
     }
     if (opt_.consistentMass) {

@@ -17,7 +17,7 @@
 #include "core/GridDistribution.hpp"
 #include "core/ParticleCellPairs.hpp"
 #include "physics/Constraints.hpp"
-#include "physics/LinearElastic.hpp"
+#include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
 #include "solvers/NewtonSolver.hpp"
@@ -66,7 +66,7 @@ struct NewtonNotConverged : std::runtime_error {
 template <class Shape, int Dim = 2>
 class ImplicitNewmark : public Integrator, public ResidualModel {
  public:
-  ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist, const LinearElastic& material,
+  ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist, const Materials& material,
                   const NodalConstraints& constraints, const LoadSet& loads, const ImplicitOptions& options);
   ~ImplicitNewmark() override;
 
@@ -103,7 +103,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   ParticleSet& ps_;
   const GridDistribution& dist_;
-  LinearElastic mat_;
+  Materials mat_;
   const NodalConstraints& bc_;
   const LoadSet& loads_;
   ImplicitOptions opt_;

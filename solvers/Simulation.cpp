@@ -6,11 +6,13 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "core/Collective.hpp"
@@ -60,12 +62,16 @@ void Simulation::checkParticlesInReach(double t) const {
 }
 
 double Simulation::divergenceMeasure() const {
-  // Non-finite values count as infinitely large; |stress| / c11 is the size of the strain.
+  // Non-finite values count as infinitely large. Small strain: |stress| / c11 is the size of the
+  // strain. Finite strain: stresses of order c11 are legitimate, and the end of the run is an
+  // inverted particle (det F <= 0), which also counts as infinite.
   auto v = particles_.v;
   auto stress = particles_.stress;
   auto material = particles_.material;
-  const LinearElasticLaw law = materials_.law();
+  auto V = particles_.volume;
+  const MaterialLaw law = materials_.law();
   const int dim = particles_.dim, ns = particles_.stressCount();
+  const bool fixedVolumes = particles_.fixedPositions();
   double local = 0.0;
   Kokkos::parallel_reduce(
       "divergence_guard", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
@@ -76,14 +82,70 @@ double Simulation::divergenceMeasure() const {
           sum += stress(p, i);
           largest = std::fmax(largest, std::fabs(stress(p, i)));
         }
+        const int m = material(p);
+        const bool finiteStrain = law.finiteStrain(m);
         // NaN and Inf propagate into the sum; NaN fails every comparison, so test finiteness.
-        const double measure = std::isfinite(sum) ? largest / law.table(material(p), LinearElasticLaw::C11) : HUGE_VAL;
+        const bool bad = !std::isfinite(sum) || (finiteStrain && !fixedVolumes && !(V(p) > 0.0));
+        const double measure = bad ? HUGE_VAL : finiteStrain ? 0.0 : largest / law.table(m, MaterialLaw::C11);
         worst = measure > worst ? measure : worst;
       },
       Kokkos::Max<double>(local));
   double global = 0.0;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, local, Teuchos::outArg(global));
   return global;
+}
+
+std::string Simulation::describeBadParticle() const {
+  // The lowest global id among the particles with a non-finite state or det F <= 0, over all
+  // ranks; then its owner describes it.
+  auto v = particles_.v; auto stress = particles_.stress; auto V = particles_.volume; auto id = particles_.id;
+  const int dim = particles_.dim, ns = particles_.stressCount();
+  const bool fixedVolumes = particles_.fixedPositions();
+  long long localFirst = std::numeric_limits<long long>::max();
+  Kokkos::parallel_reduce(
+      "find_bad_particle", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
+      KOKKOS_LAMBDA(int p, long long& first) {
+        double sum = 0.0;
+        for (int d = 0; d < dim; ++d) sum += v(p, d);
+        for (int i = 0; i < ns; ++i) sum += stress(p, i);
+        const bool bad = !std::isfinite(sum) || (!fixedVolumes && !(V(p) > 0.0));
+        if (bad && id(p) < first) first = id(p);
+      },
+      Kokkos::Min<long long>(localFirst));
+  long long first = 0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, localFirst, Teuchos::outArg(first));
+  std::string here;
+  if (first == localFirst && first != std::numeric_limits<long long>::max()) {
+    auto hid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
+    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+    auto hx0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
+    auto hV = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.volume);
+    auto hV0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.volume0);
+    auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.body);
+    for (int p = 0; p < particles_.count; ++p) {
+      if (hid(p) != first) continue;
+      std::ostringstream os;
+      auto point = [&](const auto& view) {
+        std::string s = "(";
+        for (int d = 0; d < dim; ++d) s += (d ? ", " : "") + formatNumber(view(p, d));
+        return s + ")";
+      };
+      os << "particle " << first << " of body '" << bodies_[hb(p)].name << "' (reference position " << point(hx0)
+         << ", now at " << point(hx) << ")";
+      if (!fixedVolumes && !(hV(p) > 0.0))
+        os << " is inverted: det F = " << formatNumber(hV(p) / hV0(p));
+      else
+        os << " has a velocity or stress that is not finite";
+      here = os.str();
+    }
+  }
+  // The owner's description to every rank (rank of the owner is the one with a non-empty string).
+  int length = (int)here.size(), longest = 0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, length, Teuchos::outArg(longest));
+  std::vector<int> mine(longest + 1, 0), all(longest + 1, 0);
+  std::copy(here.begin(), here.end(), mine.begin());
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, longest + 1, mine.data(), all.data());
+  return std::string(all.begin(), std::find(all.begin(), all.end(), 0));
 }
 
 std::string Simulation::timeStepAdvice() const {
@@ -169,10 +231,13 @@ RunResult Simulation::run(std::ostream& log) {
       r.status = "diverged";
       r.divergedStep = n + 1;
       r.divergedTime = tNew;
-      r.divergence = std::isinf(divergence)
-                         ? std::string("a particle velocity or stress is not finite")
-                         : "a particle stress is " + formatNumber(divergence) +
-                               " times its material's P-wave modulus (a strain of order one)";
+      if (std::isinf(divergence)) {
+        const std::string which = describeBadParticle();
+        r.divergence = which.empty() ? std::string("a particle velocity or stress is not finite") : which;
+      } else {
+        r.divergence = "a particle stress is " + formatNumber(divergence) +
+                       " times its material's P-wave modulus (a strain of order one)";
+      }
       writeSummaryOnRoot(r);
       throw std::runtime_error("the run diverged at step " + std::to_string(n + 1) + " (t = " + formatNumber(tNew) +
                                " s): " + r.divergence + "; " + timeStepAdvice() + "; history.csv and summary.yaml up to step " +

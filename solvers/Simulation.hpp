@@ -19,7 +19,7 @@
 #include "physics/Body.hpp"
 #include "physics/Constraints.hpp"
 #include "physics/ExactReference.hpp"
-#include "physics/LinearElastic.hpp"
+#include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/History.hpp"
 #include "solvers/Integrator.hpp"
@@ -41,7 +41,7 @@ class Simulation {
 
   const ParticleSet& particles() const { return particles_; }
   const GridDistribution& distribution() const { return *dist_; }
-  const LinearElastic& materials() const { return materials_; }
+  const Materials& materials() const { return materials_; }
   const std::vector<BodySpec>& bodies() const { return bodies_; }
   const std::string& outputDirectory() const { return outputDir_; }
   bool hasExact() const { return exact_ != nullptr; }
@@ -56,6 +56,8 @@ class Simulation {
   // Over all ranks, the largest |stress| / c11 of a particle (its strain), +inf when a
   // particle's velocity or stress is not finite. One reduction.
   double divergenceMeasure() const;
+  // Names the first particle (by global id) whose state is not finite or inverted, with its body.
+  std::string describeBadParticle() const;
   // Above this the run has diverged: small-strain elasticity never reaches a strain of one.
   static constexpr double kDivergedStrain = 1.0;
   // What to change when the run diverged (the time step, with the explicit critical step).
@@ -82,7 +84,7 @@ class Simulation {
   std::string outputKey_;  // where outputDir_ comes from, for messages
   StructuredGrid grid_;
   double thickness_ = 1;
-  LinearElastic materials_;
+  Materials materials_;
   std::vector<std::string> materialNames_;
   std::vector<BodySpec> bodies_;
   std::vector<double> estimatedBodyParticles_, estimatedBodyCells_;  // per body, for checkProblemSize

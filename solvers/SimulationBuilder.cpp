@@ -224,16 +224,25 @@ const BodySpec& Simulation::bodyNamed(const std::string& key, const std::string&
 
 void Simulation::buildMaterialsAndBodies() {
   const ParameterList& ms = deck_.sublist("Materials");
-  std::vector<ElasticParameters> params;
+  std::vector<MaterialParameters> params;
   for (auto it = ms.begin(); it != ms.end(); ++it) {
     const std::string name = ms.name(it), key = "Materials/" + name;
     const ParameterList& m = ms.sublist(name);
-    ElasticParameters p;
+    MaterialParameters p;
     p.E = positive(m, key, "Young Modulus");
     p.density = positive(m, key, "Density");
     p.nu = m.get<double>("Poisson Ratio");
     if (!(p.nu > -1.0 && p.nu < 0.5))
       throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + formatNumber(p.nu));
+    p.model = m.get<std::string>("Model") == "Neo-Hookean" ? MaterialModel::NeoHookean : MaterialModel::LinearElastic;
+    if (p.model == MaterialModel::NeoHookean) {
+      if (grid_.dim == 2 && deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress")
+        throw DeckError("'" + key + "/Model' = Neo-Hookean is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
+                        "would need the out-of-plane stretch solved per particle (use Plane Strain or Grid/Dimension 3)");
+      if (shape_ == "FE Q4" || shape_ == "FE Q9")
+        throw DeckError("'" + key + "/Model' = Neo-Hookean needs moving particles; 'Method/Shape Function' = " + shape_ +
+                        " is the small-strain finite-element reference (use MPM or GIMP)");
+    }
     params.push_back(p);
     materialNames_.push_back(name);
   }
@@ -242,7 +251,7 @@ void Simulation::buildMaterialsAndBodies() {
                                    ? PlaneCondition::PlaneStress
                                    : PlaneCondition::PlaneStrain;
   if (params.empty()) throw DeckError("'Materials' is empty: a deck with Bodies needs at least one material");
-  materials_ = LinearElastic(params, plane);
+  materials_ = Materials(params, plane);
 
   if (shape_ == "FE Q9" && grid_.dim == 3 && grid_.nz % 2)
     throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " + std::to_string(grid_.nz));

@@ -63,7 +63,7 @@ double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teucho
   GridDistribution dist(g, comm);
   RectangularBody body{0.0, 0.03, 0.0, 0.5e-3, 3, 3, 1e-3};
   body.placement = placement;
-  LinearElastic mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStrain};
+  Materials mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStrain};
   ParticleSet ps = createParticles(body, mat, dist);
   NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
   LoadSet loads({}, dist, {}, 1);
@@ -129,7 +129,7 @@ TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
     g.nx = 30; g.ny = 2; g.hx = 1e-3; g.hy = 0.25e-3;
     GridDistribution dist(g, comm);
     RectangularBody body{0.0, 0.03, 0.0, 0.5e-3, 3, 3, 1e-3};
-    LinearElastic mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStress};
+    Materials mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStress};
     ParticleSet ps = createParticles(body, mat, dist);
     auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
     auto v = Kokkos::create_mirror_view(ps.v);

@@ -21,7 +21,7 @@ TEUCHOS_UNIT_TEST(ParticleCellPairs, OverlapIntegralsGiveGimpWeights) {
   g.nx = 8; g.ny = 5; g.hx = 0.4; g.hy = 0.3;
   GridDistribution dist(g, comm);
   RectangularBody body{0.4, 2.8, 0.3, 1.2, 3, 2, 1.0};
-  ParticleSet ps = createParticles(body, LinearElastic{1.0, 0.2, 1.0}, dist);
+  ParticleSet ps = createParticles(body, Materials{1.0, 0.2, 1.0}, dist);
   // Move particles by up to half their domain so that domains straddle cell lines.
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> jitter(-1.0, 1.0);
@@ -79,7 +79,7 @@ TEUCHOS_UNIT_TEST(ParticleCellPairs, MpmHasOnePairPerParticle) {
   StructuredGrid g;
   g.nx = 6; g.ny = 3; g.hx = 1.0; g.hy = 1.0;
   GridDistribution dist(g, comm);
-  ParticleSet ps = createParticles(RectangularBody{1, 5, 0, 3, 2, 2, 1.0}, LinearElastic{1.0, 0.2, 1.0}, dist);
+  ParticleSet ps = createParticles(RectangularBody{1, 5, 0, 3, 2, 2, 1.0}, Materials{1.0, 0.2, 1.0}, dist);
   const ParticleCellPairs pairs = buildParticleCellPairs<ExecutionSpace>(g, ps, true);
   TEST_EQUALITY(pairs.count, ps.count);
 }

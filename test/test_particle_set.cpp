@@ -15,7 +15,7 @@ TEUCHOS_UNIT_TEST(ParticleSet, PackUnpackRoundTrip) {
   StructuredGrid g;
   g.nx = 6; g.ny = 3; g.hx = 0.5; g.hy = 0.5;
   GridDistribution dist(g, Teuchos::rcp(new Teuchos::SerialComm<int>()));
-  ParticleSet ps = createParticles(RectangularBody{0.5, 2.5, 0.0, 1.5, 2, 2, 0.1}, LinearElastic{1e6, 0.25, 1000.0}, dist);
+  ParticleSet ps = createParticles(RectangularBody{0.5, 2.5, 0.0, 1.5, 2, 2, 0.1}, Materials{1e6, 0.25, 1000.0}, dist);
   // Give every field a distinct value.
   auto psv = ps;
   Kokkos::parallel_for(

@@ -37,7 +37,7 @@ void checkConservation(Teuchos::FancyOStream& out, bool& success) {
     body.zMin = 0.3; body.zMax = 0.9; body.particlesPerCellZ = 2;
   }
   GridDistribution dist(g, comm);
-  LinearElastic mat(std::vector<ElasticParameters>{{1e6, 0.25, 1000.0}},
+  Materials mat(std::vector<MaterialParameters>{{1e6, 0.25, 1000.0}},
                     Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
   TEST_EQUALITY(ps.dim, Dim);

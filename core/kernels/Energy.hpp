@@ -23,6 +23,7 @@ struct ParticleTotals {
 template <class ExecSpace, int Dim, class Law>
 ParticleTotals particleTotals(const ParticleSet& ps, const Law& law, const Teuchos::Comm<int>& comm) {
   auto m = ps.mass; auto v = ps.v; auto s = ps.stress; auto V = ps.volume; auto matId = ps.material;
+  auto F = FixedParticleViews<Dim>(ps).F;
   double local[6] = {0, 0, 0, 0, 0, 0};
   Kokkos::parallel_reduce(
       "particle_totals", Kokkos::RangePolicy<ExecSpace>(0, ps.count),
@@ -32,7 +33,10 @@ ParticleTotals particleTotals(const ParticleSet& ps, const Law& law, const Teuch
         ke += 0.5 * m(p) * speed2;
         double sp[StressLayout<Dim>::count];
         for (int c = 0; c < StressLayout<Dim>::count; ++c) sp[c] = s(p, c);
-        se += V(p) * law.template energyDensity<Dim>(matId(p), sp);
+        double Fp[Dim][Dim];
+        for (int i = 0; i < Dim; ++i)
+          for (int j = 0; j < Dim; ++j) Fp[i][j] = F(p, i, j);
+        se += V(p) * law.template energyDensity<Dim>(matId(p), sp, Fp);
         px += m(p) * v(p, 0);
         py += m(p) * v(p, 1);
         if (Dim == 3) pz += m(p) * v(p, Dim - 1);

@@ -1,4 +1,6 @@
-// Stiffness contributions K_e = int B^T D B, assembled over blocks of grid nodes.
+// Stiffness contributions K_e = int B^T D B, assembled over blocks of grid nodes, at the
+// particles' current state (D from the law at J = V / V0; finite-strain materials add the
+// geometric term int grad S_a . sigma . grad S_b).
 //
 // Two ways to integrate, both as Kokkos kernels that fill one small dense matrix per entry:
 //  - overlapStiffness (the seed's GIMP stiffness, slide 6): one entry per particle-cell pair.
@@ -88,7 +90,7 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
   }
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
   auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
-  auto V = ps.volume; auto hs = ps.halfSize; auto matId = ps.material; auto x = ps.x;
+  auto V = ps.volume; auto V0 = ps.volume0; auto hs = ps.halfSize; auto matId = ps.material; auto x = ps.x;
   auto K = out.K;
   Kokkos::parallel_for(
       "overlap_stiffness", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
@@ -106,7 +108,7 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
         const double thickness = V(p) / (clippedWidth * clippedHeight);
         const double wq = 0.25 * (b - a) * (d - c) * thickness;
         double D[3][3];
-        law.template tangent<2>(matId(p), D);
+        law.template tangent<2>(matId(p), V(p) / V0(p), D);
         for (int ix = 0; ix < 2; ++ix)
           for (int iy = 0; iy < 2; ++iy) {
             const double xi = (qx[ix] - cx) / g.hx, eta = (qy[iy] - cy) / g.hy;
@@ -144,7 +146,8 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
   out.origin = decltype(out.origin)("stencil_block_origin", ps.count, Dim);
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("stencil_stiffness", ps.count, nd, nd);
   auto O = out.origin; auto K = out.K;
-  auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto m = ps.mass; auto matId = ps.material;
+  auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto V0 = ps.volume0; auto m = ps.mass; auto matId = ps.material;
+  auto sigma = ps.stress;
   const int b0 = bnd[0], b1 = bnd[1], b2 = bnd[2];
   Kokkos::parallel_for(
       "stencil_stiffness", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
@@ -171,8 +174,21 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
         for (int r = 0; r < nd; ++r)
           for (int c = 0; c < nd; ++c) K(p, r, c) = 0.0;
         double D[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt];
-        law.template tangent<Dim>(matId(p), D);
+        const int mat = matId(p);
+        law.template tangent<Dim>(mat, V(p) / V0(p), D);
         detail::addBtDB<Dim>(K, p, nn, grad, V(p), D);
+        if (law.finiteStrain(mat)) {
+          // The geometric (initial-stress) term of the current-configuration tangent:
+          // V grad S_a . sigma . grad S_b on each component.
+          using SL = StressLayout<Dim>;
+          for (int a = 0; a < nn; ++a)
+            for (int b = 0; b < nn; ++b) {
+              double k = 0;
+              for (int i = 0; i < Dim; ++i)
+                for (int j = 0; j < Dim; ++j) k += grad[a][i] * sigma(p, SL::index(i, j)) * grad[b][j];
+              for (int c = 0; c < Dim; ++c) K(p, Dim * a + c, Dim * b + c) += V(p) * k;
+            }
+        }
         if (massFactor > 0.0)
           for (int a = 0; a < nn; ++a)
             for (int b = 0; b < nn; ++b)

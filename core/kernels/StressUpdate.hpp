@@ -1,24 +1,15 @@
 // The particle update from a displacement-gradient increment G (explicit: dt grad v; implicit:
 // grad u of the step): the stress through the material law, the deformation gradient
-// F <- (I + G) F and the volume V = V0 det F. Templated on the law (physics/LinearElastic.hpp
-// is one) and the dimension: the law sees only its material id, the old stress and G. The FE
+// F <- (I + G) F and the volume V = V0 det F. Templated on the law (physics/Materials.hpp) and
+// the dimension: the law sees its material id, the old stress, G and the new F. The FE
 // reference keeps its Gauss points' volumes (small strain on the undeformed mesh):
 // updateVolume = false.
 #pragma once
 
 #include "core/ParticleSet.hpp"
+#include "core/SmallMatrix.hpp"
 
 namespace impm {
-
-template <int Dim>
-KOKKOS_INLINE_FUNCTION double determinant(const double (&F)[Dim][Dim]) {
-  if constexpr (Dim == 2) {
-    return F[0][0] * F[1][1] - F[0][1] * F[1][0];
-  } else {
-    return F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) - F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
-           F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
-  }
-}
 
 // G[i][j] = d(increment)_i / dx_j.
 template <int Dim, class Law>
@@ -26,10 +17,6 @@ KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& p
                                                 const double (&G)[Dim][Dim],
                                                 bool updateVolume = true) {
   constexpr int ns = StressLayout<Dim>::count;
-  double s[ns];
-  for (int c = 0; c < ns; ++c) s[c] = ps.stress(p, c);
-  law.template stress<Dim>(ps.material(p), s, G, s);
-  for (int c = 0; c < ns; ++c) ps.stress(p, c) = s[c];
   double Fn[Dim][Dim];
   for (int i = 0; i < Dim; ++i)
     for (int j = 0; j < Dim; ++j) {
@@ -37,6 +24,10 @@ KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& p
       for (int k = 0; k < Dim; ++k) f += G[i][k] * ps.F(p, k, j);
       Fn[i][j] = f;
     }
+  double s[ns];
+  for (int c = 0; c < ns; ++c) s[c] = ps.stress(p, c);
+  law.template stress<Dim>(ps.material(p), s, G, Fn, s);
+  for (int c = 0; c < ns; ++c) ps.stress(p, c) = s[c];
   for (int i = 0; i < Dim; ++i)
     for (int j = 0; j < Dim; ++j) ps.F(p, i, j) = Fn[i][j];
   if (updateVolume) ps.volume(p) = ps.volume0(p) * determinant<Dim>(Fn);

@@ -1,0 +1,145 @@
+// The materials of a run: one interface, a table of parameter sets indexed by the particle's
+// material id, and a switch on each row's model (cb-geo/mpm's compute_stress/compute_dmatrix,
+// as a Kokkos functor: several materials share one kernel instantiation). Each law lives in
+// its own file under physics/materials/. The kernels in core/ are templated on the law type and
+// call only its device interface:
+//   finiteStrain(m)                   the model is written in the current configuration (the
+//                                     implicit residual then integrates over the deformed
+//                                     domain and the stiffness adds the geometric term)
+//   stress<Dim>(m, s0, G, F, s)       stress after a displacement-gradient increment G from
+//                                     stress s0; F is the deformation gradient after it
+//   tangent<Dim>(m, J, D)             dsigma/deps on the Voigt strains (2D: xx, yy, 2xy), for
+//                                     K = int B^T D B over the current volume (J = V / V0)
+//   energyDensity<Dim>(m, s, F)       strain energy per unit current volume
+#pragma once
+
+#include <Kokkos_Core.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/ParticleSet.hpp"
+#include "core/Types.hpp"
+#include "physics/materials/LinearElasticModel.hpp"
+#include "physics/materials/NeoHookeanModel.hpp"
+
+namespace impm {
+
+// The 2D idealisations, and Solid for 3D.
+enum class PlaneCondition { PlaneStrain, PlaneStress, Solid };
+
+enum class MaterialModel { LinearElastic = 0, NeoHookean = 1 };
+
+// One material's parameters, as the deck gives them. Neo-Hookean takes its Lame constants from
+// E and nu (the small-strain limit is the linear law).
+struct MaterialParameters {
+  double E = 1.0, nu = 0.0, density = 1.0;
+  MaterialModel model = MaterialModel::LinearElastic;
+};
+
+struct MaterialLaw {
+  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Count };
+  Kokkos::View<double* [Count], Kokkos::LayoutRight, DeviceType> table;
+
+  KOKKOS_INLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
+  KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) == (int)MaterialModel::NeoHookean; }
+  KOKKOS_INLINE_FUNCTION LinearElasticModel linearElastic(int m) const {
+    return LinearElasticModel{table(m, C11), table(m, C12), table(m, C33), table(m, CZZ), table(m, InvDet)};
+  }
+  KOKKOS_INLINE_FUNCTION NeoHookeanModel neoHookean(int m) const { return NeoHookeanModel{table(m, Lambda), table(m, Mu)}; }
+
+  // s may alias s0.
+  template <int Dim>
+  KOKKOS_INLINE_FUNCTION void stress(int m, const double* s0, const double (&G)[Dim][Dim], const double (&F)[Dim][Dim],
+                                     double* s) const {
+    if (finiteStrain(m))
+      neoHookean(m).template stress<Dim>(F, s);
+    else
+      linearElastic(m).template stress<Dim>(s0, G, s);
+  }
+  template <int Dim>
+  KOKKOS_INLINE_FUNCTION void tangent(int m, double J,
+                                      double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) const {
+    if (finiteStrain(m))
+      neoHookean(m).template tangent<Dim>(J, D);
+    else
+      isotropicTangent<Dim>(table(m, C11), table(m, C12), table(m, C33), D);
+  }
+  template <int Dim>
+  KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim]) const {
+    return finiteStrain(m) ? neoHookean(m).template energyDensity<Dim>(F) : linearElastic(m).template energyDensity<Dim>(s);
+  }
+};
+
+// The host side: the parameter sets (material id = index), the plane condition, and the
+// device law built from them.
+class Materials {
+ public:
+  using Law = MaterialLaw;
+  Materials() : Materials(std::vector<MaterialParameters>{MaterialParameters{}}, PlaneCondition::PlaneStrain) {}
+  Materials(const std::vector<MaterialParameters>& materials, PlaneCondition plane) : params_(materials), plane_(plane) {
+    law_.table = decltype(law_.table)("material_constants", materials.size());
+    auto h = Kokkos::create_mirror_view(law_.table);
+    for (int m = 0; m < (int)materials.size(); ++m) {
+      const double E = params_[m].E, nu = params_[m].nu;
+      h(m, Law::Model) = (double)params_[m].model;
+      h(m, Law::C11) = c11(m); h(m, Law::C12) = c12(m); h(m, Law::C33) = c33(m); h(m, Law::CZZ) = czz(m);
+      h(m, Law::InvDet) = 1.0 / (c11(m) * c11(m) - c12(m) * c12(m));
+      h(m, Law::Lambda) = E * nu / ((1 + nu) * (1 - 2 * nu));
+      h(m, Law::Mu) = E / (2 * (1 + nu));
+    }
+    Kokkos::deep_copy(law_.table, h);
+  }
+  // One linear-elastic material (id 0).
+  Materials(double E, double nu, double density, PlaneCondition plane = PlaneCondition::PlaneStrain)
+      : Materials(std::vector<MaterialParameters>{MaterialParameters{E, nu, density}}, plane) {}
+
+  const Law& law() const { return law_; }
+  int count() const { return (int)params_.size(); }
+  const MaterialParameters& parameters(int m) const { return params_[m]; }
+  PlaneCondition plane() const { return plane_; }
+  bool anyFiniteStrain() const {
+    return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return p.model != MaterialModel::LinearElastic; });
+  }
+  static std::string modelName(MaterialModel m) { return m == MaterialModel::NeoHookean ? "Neo-Hookean" : "Linear Elastic"; }
+  double density(int m) const { return params_[m].density; }
+  double c11(int m) const {
+    const double E = params_[m].E, nu = params_[m].nu;
+    return plane_ != PlaneCondition::PlaneStress ? E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) : E / (1 - nu * nu);
+  }
+  double c12(int m) const {
+    const double E = params_[m].E, nu = params_[m].nu;
+    return plane_ != PlaneCondition::PlaneStress ? E * nu / ((1 + nu) * (1 - 2 * nu)) : E * nu / (1 - nu * nu);
+  }
+  double c33(int m) const { return params_[m].E / (2 * (1 + params_[m].nu)); }
+  double czz(int m) const {
+    const double E = params_[m].E, nu = params_[m].nu;
+    return plane_ == PlaneCondition::PlaneStrain ? E * nu / ((1 + nu) * (1 - 2 * nu)) : 0.0;
+  }
+  // The modulus a slender 1D bar of this model sees: E in plane stress and in 3D (lateral faces
+  // free), E/(1 - nu^2) in plane strain.
+  double barModulus(int m = 0) const {
+    const double E = params_[m].E, nu = params_[m].nu;
+    return plane_ != PlaneCondition::PlaneStrain ? E : E / (1 - nu * nu);
+  }
+  // P-wave speed of the model at small strain (2D or 3D), for the explicit stable time step; the
+  // fastest over the table.
+  double pWaveSpeed(int m) const { return std::sqrt(c11(m) / density(m)); }
+  double maxPWaveSpeed() const {
+    double c = 0;
+    for (int m = 0; m < count(); ++m) c = std::max(c, pWaveSpeed(m));
+    return c;
+  }
+  std::string planeName() const {
+    return plane_ == PlaneCondition::PlaneStrain ? "plane strain" : plane_ == PlaneCondition::PlaneStress ? "plane stress" : "3D";
+  }
+
+ private:
+  std::vector<MaterialParameters> params_;
+  PlaneCondition plane_ = PlaneCondition::PlaneStrain;
+  Law law_;
+};
+
+}  // namespace impm
