@@ -183,8 +183,10 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
     number(*pl, "Force X", 0.0, "total force, x component (N)");
     number(*pl, "Force Y", 0.0, "total force, y component (N)");
     number(*pl, "Force Z", 0.0, "total force, z component (N; 3D)");
-    choice(*pl, "Time Function", "Step", {"Step", "Sine", "Constant"},
-           "Step: F H(t - Start Time); Sine: F sin(omega t); Constant: F (the same factor scales a Body Force)");
+    choice(*pl, "Time Function", "Step", {"Step", "Sine", "Constant", "Ramp"},
+           "Step: F H(t - Start Time); Sine: F sin(omega t); Constant: F; Ramp: F min(max(t - Start Time, 0) / "
+           "Ramp Time, 1), for quasi-static loading (the same factor scales a Body Force)");
+    number(*pl, "Ramp Time", 0.0, "duration of the rise of a Ramp load (s)");
     number(*pl, "Angular Frequency", 0.0, "omega of the Sine time function (rad/s)");
     number(*pl, "Start Time", 0.0, "time at which a Step load comes on (s)");
   } else if (collection == "Monitors") {
@@ -237,8 +239,9 @@ RCP<const ParameterList> validParameters() {
                  "a later body replaces the particles of earlier ones inside its shape").disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Method", false, "spatial discretisation");
-    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "FE Q4", "FE Q9"},
-           "MPM: linear tent at particle points; GIMP: uniform GIMP; FE Q4 / FE Q9: the finite-element "
+    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "cpGIMP", "FE Q4", "FE Q9"},
+           "MPM: linear tent at particle points; GIMP: uniform GIMP; cpGIMP: GIMP with the particle domain "
+           "stretched by the diagonal of F (capped at half a cell), for large deformation; FE Q4 / FE Q9: the finite-element "
            "reference on the same kernels, particles fixed at the Gauss points (Q4: bilinear, 2 x 2 per cell; "
            "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
            "only, Rectangle bodies only; Particles Per Cell is not used. In 3D FE Q4 is the trilinear Hex8 "
@@ -306,7 +309,8 @@ RCP<const ParameterList> validParameters() {
       .disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Exact Solution", false, "exact solution for the monitors, if any");
-    choice(p, "Type", "None", {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load"},
+    choice(p, "Type", "None",
+           {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load", "Column Under Self-Weight"},
            "Bar Step Load: 1D rod fixed at X Min under the step load named by Load at X Max; "
            "Layered Bar Step Load: the same rod made of all the Rectangle bodies side by side along x, each of its "
            "own material, the load at the right end of the last: the wave fronts traced through every interface "
@@ -314,7 +318,11 @@ RCP<const ParameterList> validParameters() {
            "Simply Supported Beam: Euler-Bernoulli beam under the harmonic point load named by Load; "
            "Bar Standing Wave: 1D rod fixed in x at both ends (Constraints on faces x- and x+), no loads, "
            "started by Initial Conditions/Type = Standing Wave: u = (V/omega) sin(n pi X/L) sin(omega t), "
-           "omega = c n pi / L (displacement, velocity and stress XX)");
+           "omega = c n pi / L (displacement, velocity and stress XX); "
+           "Column Under Self-Weight: a plane-strain column on a fixed base with rollers on both sides under the "
+           "Body Force named by Load (Acceleration Y < 0), quasi-static at the load's current factor: "
+           "sigma_yy = -f rho0 g (l0 - Y) exactly, and the stretch and displacement of the linear or neo-Hookean "
+           "law (physics/ColumnExact.hpp; displacement Y, stress YY and XX; modulus: the constrained lambda + 2 mu)");
     choice(p, "Modulus", "Plane Condition", {"Plane Condition", "Young Modulus"},
            "modulus of the exact solution: Plane Condition = E in plane stress, E/(1-nu^2) in plane strain");
     p.set("Load", "", "name of the load (in Loads) that the exact solution is driven by (not used by Bar Standing Wave)");

@@ -72,6 +72,27 @@ struct UniformGimp {
   }
 };
 
+// Convected-particle GIMP (cpGIMP; Sadeghirad, Brannon & Burghardt 2011 call it the
+// axis-aligned variant; Wallstedt & Guilkey 2008): the uGIMP functions, with the particle
+// domain carried by the deformation. The domain stays an axis-aligned box whose half size in
+// direction d is l0_d F_dd (updated as l_d <- l_d F_dd^new / F_dd^old with the stress, while
+// both are positive), capped at half a cell so that the uGIMP closed forms (l <= h/2) and the
+// 3-node stencil still hold. Under compression the domains shrink with the material instead
+// of overlapping, which is what a compacting body needs.
+struct ConvectedGimp : UniformGimp {
+  static constexpr const char* name = "cpGIMP";
+};
+
+// Whether a shape's particle domains follow the deformation (read by the particle update).
+template <class Shape>
+struct ConvectsDomain {
+  static constexpr bool value = false;
+};
+template <>
+struct ConvectsDomain<ConvectedGimp> {
+  static constexpr bool value = true;
+};
+
 // Quadratic Lagrange (the 1D factor of the Q9 element) for the finite-element reference mode:
 // an element spans two grid cells per direction, with nodes at its ends (even grid indices)
 // and its middle (odd). With s = |r| / h, an end node's function is (1 - s)(1 - s/2) for

@@ -8,6 +8,7 @@
 
 #include "core/InputDeck.hpp"
 #include "physics/BeamTheories.hpp"
+#include "physics/ColumnExact.hpp"
 #include "physics/ExactSolutions.hpp"
 #include "physics/LayeredBarExact.hpp"
 
@@ -221,6 +222,45 @@ class LayeredBar : public ExactReference {
   double xMin_ = 0;
 };
 
+// The column compacting under its own weight, quasi-static: the load factor of the body force
+// at time t gives the equilibrium state (physics/ColumnExact.hpp).
+class SelfWeightColumn : public ExactReference {
+ public:
+  SelfWeightColumn(const ParameterList& e, const ExactContext& c) {
+    const BodySpec& b = exactBody(e, c);
+    const LoadSpec& load = exactLoad(e, c);
+    if (load.type != "Body Force" || !(load.accelerationY < 0) || load.accelerationX != 0 || load.accelerationZ != 0)
+      throw DeckError("'Exact Solution/Type' = Column Under Self-Weight needs 'Exact Solution/Load' to name a Body Force "
+                      "with Acceleration Y < 0 only (gravity); '" + load.name + "' is not");
+    if (c.dimension != 2 || c.materials->plane() != PlaneCondition::PlaneStrain)
+      throw DeckError("'Exact Solution/Type' = Column Under Self-Weight is the 2D plane-strain column (Grid/Plane Condition = Plane Strain)");
+    const MaterialParameters& m = c.materials->parameters(b.material);
+    column_.height = b.rect.height();
+    column_.density = m.density;
+    column_.gravity = -load.accelerationY;
+    column_.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
+    column_.mu = m.E / (2 * (1 + m.nu));
+    column_.neoHookean = m.model == MaterialModel::NeoHookean;
+    modulus_ = column_.lambda + 2 * column_.mu;  // the constrained modulus M of the laterally confined column
+    yMin_ = b.rect.yMin;
+    time_ = load.time;
+  }
+  std::string type() const override { return "Column Under Self-Weight"; }
+  double value(const std::string& q, double, double y0, double t) const override {
+    const double Y = y0 - yMin_, f = time_(t);
+    if (q == "Displacement Y") return column_.displacementY(Y, f);
+    if (q == "Stress YY") return column_.stressYY(Y, f);
+    if (q == "Stress XX") return column_.stressXX(Y, f);
+    return kNaN;
+  }
+  const SelfWeightColumnExact& column() const { return column_; }
+
+ private:
+  SelfWeightColumnExact column_{};
+  double yMin_ = 0;
+  TimeFunction time_{};
+};
+
 }  // namespace
 
 std::unique_ptr<ExactReference> makeExactReference(const ParameterList& e, const ExactContext& c) {
@@ -231,6 +271,7 @@ std::unique_ptr<ExactReference> makeExactReference(const ParameterList& e, const
   if (type == "Bar Standing Wave") return std::make_unique<StandingWave>(e, c);
   if (type == "Simply Supported Beam") return std::make_unique<SimplySupportedBeam>(e, c);
   if (type == "Layered Bar Step Load") return std::make_unique<LayeredBar>(e, c);
+  if (type == "Column Under Self-Weight") return std::make_unique<SelfWeightColumn>(e, c);
   return nullptr;
 }
 

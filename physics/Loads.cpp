@@ -12,6 +12,7 @@ double TimeFunction::operator()(double t) const {
     case Kind::Step: return t >= startTime ? 1.0 : 0.0;
     case Kind::Sine: return std::sin(omega * t);
     case Kind::Constant: return 1.0;
+    case Kind::Ramp: return t >= startTime + rampTime ? 1.0 : t > startTime ? (t - startTime) / rampTime : 0.0;
   }
   return 0.0;
 }

@@ -85,7 +85,8 @@ void ExplicitStepper<Shape, Dim>::stressFromGhostedVelocity(double dt, bool from
     auto grid = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
     gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, K::VelX);
   }
-  updateStress<Exec, Dim>(ps_, mat_.law(), dt);
+  updateStress<Exec, Dim>(ps_, mat_.law(), dt, true,
+                          ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection());
 }
 
 template <class Shape, int Dim>
@@ -147,5 +148,7 @@ template class ExplicitStepper<LinearMpm, 2>;
 template class ExplicitStepper<UniformGimp, 2>;
 template class ExplicitStepper<LinearMpm, 3>;
 template class ExplicitStepper<UniformGimp, 3>;
+template class ExplicitStepper<ConvectedGimp, 2>;
+template class ExplicitStepper<ConvectedGimp, 3>;
 
 }  // namespace impm

@@ -474,7 +474,8 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
   {
     auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DisplacementColumns<Dim>::UX);
-    updateStress<Exec, Dim>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles);
+    updateStress<Exec, Dim>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles,
+                            ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection());
     const StructuredGrid g = dist_.grid();
     const LocalNodeIndexer ix = dist_.ghostedIndexer();
     auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
@@ -567,6 +568,8 @@ template class ImplicitNewmark<UniformGimp, 2>;
 template class ImplicitNewmark<QuadraticLagrange, 2>;
 template class ImplicitNewmark<LinearMpm, 3>;
 template class ImplicitNewmark<UniformGimp, 3>;
+template class ImplicitNewmark<ConvectedGimp, 2>;
+template class ImplicitNewmark<ConvectedGimp, 3>;
 template class ImplicitNewmark<QuadraticLagrange, 3>;
 
 }  // namespace impm

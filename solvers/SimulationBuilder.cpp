@@ -411,7 +411,7 @@ void Simulation::checkProblemSize(bool implicit) const {
   // more components with (reach)^3 / (reach)^2 more nodes (reach 3 cells for MPM and FE Q4, 5
   // for GIMP and FE Q9), and each particle's dense stiffness block holds (dim x nodes)^2
   // values (24^2 for MPM, 81^2 for GIMP and Hex27; the 2D constants include their blocks).
-  const bool wide = shape_ == "GIMP" || shape_ == "FE Q9";
+  const bool wide = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "FE Q9";
   const double reach = wide ? 5.0 : 3.0, blockNodes = wide ? 3.0 : 2.0;
   const double activeScale = solid ? 1.5 * 1.5 * reach : 1.0;
   const double blockBytesPerParticle = implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
@@ -443,7 +443,7 @@ void Simulation::checkNodeReached(const std::string& key, const Point& point) co
   // particle's half size with GIMP.
   const double span = shape_ == "FE Q9" ? 2.0 : 1.0;
   const double reach[3] = {span * grid_.hx, span * grid_.hy, span * grid_.hz};
-  const double domain = shape_ == "GIMP" ? 1.0 : 0.0;
+  const double domain = shape_ == "GIMP" || shape_ == "cpGIMP" ? 1.0 : 0.0;
   auto px = particles_.x;
   auto hs = particles_.halfSize;
   const int dim = grid_.dim;
@@ -546,7 +546,13 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     if (grid_.dim == 2 && s.type == "Face Traction" && s.face[0] == 'z')
       throw DeckError("'" + key + "/Face' = " + s.face + " needs 'Grid/Dimension' = 3");
     const std::string tf = l.get<std::string>("Time Function");
-    s.time.kind = tf == "Sine" ? TimeFunction::Kind::Sine : tf == "Constant" ? TimeFunction::Kind::Constant : TimeFunction::Kind::Step;
+    s.time.kind = tf == "Sine"       ? TimeFunction::Kind::Sine
+                  : tf == "Constant" ? TimeFunction::Kind::Constant
+                  : tf == "Ramp"     ? TimeFunction::Kind::Ramp
+                                     : TimeFunction::Kind::Step;
+    s.time.rampTime = l.get<double>("Ramp Time");
+    if (s.time.kind == TimeFunction::Kind::Ramp && !(s.time.rampTime > 0))
+      throw DeckError("'" + key + "/Ramp Time' must be positive for a Ramp load, got " + formatNumber(s.time.rampTime));
     s.time.omega = l.get<double>("Angular Frequency");
     s.time.startTime = l.get<double>("Start Time");
     if (s.time.kind == TimeFunction::Kind::Sine && !(s.time.omega > 0))
@@ -613,7 +619,7 @@ void Simulation::buildIntegrator() {
                 << " is above 1, beyond the measured stable limit of the particle transfers; the run may diverge\n";
   }
 
-  const bool gimp = shape_ == "GIMP", fe = shape_ == "FE Q4" || shape_ == "FE Q9";
+  const bool gimp = shape_ == "GIMP", cpgimp = shape_ == "cpGIMP", fe = shape_ == "FE Q4" || shape_ == "FE Q9";
   if (fe && integratorType != "Implicit")
     throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
   // Solver options are checked whatever the integrator, so that a bad one never waits for a
@@ -645,6 +651,7 @@ void Simulation::buildIntegrator() {
     auto implicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
       constexpr int Dim = decltype(dimension)::value;
       if (gimp) return std::make_unique<ImplicitNewmark<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      if (cpgimp) return std::make_unique<ImplicitNewmark<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (shape_ == "FE Q9")
         return std::make_unique<ImplicitNewmark<QuadraticLagrange, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       return std::make_unique<ImplicitNewmark<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
@@ -658,6 +665,7 @@ void Simulation::buildIntegrator() {
     auto explicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
       constexpr int Dim = decltype(dimension)::value;
       if (gimp) return std::make_unique<ExplicitStepper<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+      if (cpgimp) return std::make_unique<ExplicitStepper<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       return std::make_unique<ExplicitStepper<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
     };
     integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});

@@ -23,6 +23,7 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
   using K = KinColumns<Dim>;
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto v = pv.v; auto a = pv.a; auto L = pv.gradient;
+  const DomainConvection domain = ConvectsDomain<Shape>::value ? DomainConvection(g) : DomainConvection();
   gatherFromGrid<ExecSpace, Shape, Dim>("g2p", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
     double vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {};
     st.forEachNode(ix, [&](int n, double w, const double* dw) {
@@ -40,7 +41,7 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
     if (updateStressNow) {
       for (int i = 0; i < Dim; ++i)
         for (int j = 0; j < Dim; ++j) grad[i][j] *= dt;
-      updateParticleState<Dim>(pv, law, p, grad);
+      updateParticleState<Dim>(pv, law, p, grad, true, domain);
     } else {
       for (int i = 0; i < Dim; ++i)
         for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];

@@ -8,14 +8,26 @@
 
 #include "core/ParticleSet.hpp"
 #include "core/SmallMatrix.hpp"
+#include "core/StructuredGrid.hpp"
 
 namespace impm {
+
+// cpGIMP's domain update (ShapeFunctions.hpp, ConvectedGimp): on, and the cap on each half size
+// (half a cell).
+struct DomainConvection {
+  bool on = false;
+  double maxHalf[3] = {0, 0, 0};
+  DomainConvection() = default;
+  explicit DomainConvection(const StructuredGrid& g) : on(true) {
+    for (int d = 0; d < g.dim; ++d) maxHalf[d] = 0.5 * g.spacing(d);
+  }
+};
 
 // G[i][j] = d(increment)_i / dx_j.
 template <int Dim, class Law>
 KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& ps, const Law& law, int p,
                                                 const double (&G)[Dim][Dim],
-                                                bool updateVolume = true) {
+                                                bool updateVolume = true, const DomainConvection& domain = {}) {
   constexpr int ns = StressLayout<Dim>::count;
   double Fn[Dim][Dim];
   for (int i = 0; i < Dim; ++i)
@@ -28,6 +40,14 @@ KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& p
   for (int c = 0; c < ns; ++c) s[c] = ps.stress(p, c);
   law.template stress<Dim>(ps.material(p), s, G, Fn, s);
   for (int c = 0; c < ns; ++c) ps.stress(p, c) = s[c];
+  if (domain.on)
+    for (int d = 0; d < Dim; ++d) {
+      const double before = ps.F(p, d, d), after = Fn[d][d];
+      if (before > 0.0 && after > 0.0) {
+        const double l = ps.halfSize(p, d) * (after / before);
+        ps.halfSize(p, d) = l < domain.maxHalf[d] ? l : domain.maxHalf[d];
+      }
+    }
   for (int i = 0; i < Dim; ++i)
     for (int j = 0; j < Dim; ++j) ps.F(p, i, j) = Fn[i][j];
   if (updateVolume) ps.volume(p) = ps.volume0(p) * determinant<Dim>(Fn);
@@ -35,7 +55,8 @@ KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& p
 
 // Every particle with G = scale * ps.gradient (explicit: grad v and dt; implicit: grad u and 1).
 template <class ExecSpace, int Dim, class Law>
-void updateStress(const ParticleSet& set, const Law& law, double scale, bool updateVolume = true) {
+void updateStress(const ParticleSet& set, const Law& law, double scale, bool updateVolume = true,
+                  const DomainConvection& domain = {}) {
   const FixedParticleViews<Dim> ps(set);
   auto L = ps.gradient;
   Kokkos::parallel_for(
@@ -43,7 +64,7 @@ void updateStress(const ParticleSet& set, const Law& law, double scale, bool upd
         double G[Dim][Dim];
         for (int i = 0; i < Dim; ++i)
           for (int j = 0; j < Dim; ++j) G[i][j] = scale * L(p, i, j);
-        updateParticleState<Dim>(ps, law, p, G, updateVolume);
+        updateParticleState<Dim>(ps, law, p, G, updateVolume, domain);
       });
 }
 
