@@ -139,6 +139,36 @@ expect_failure(z_face_2d "      Face: x-" "      Face: z-" "'Constraints/fixed e
 expect_failure(z_key_2d "Cells Y: 1" "Cells Y: 1\n    Cells Z: 4" "'Grid/Cells Z' is a 3D key")
 expect_failure(z_force_2d "      Force X: 1.0" "      Force X: 1.0\n      Force Z: 1.0" "'Loads/end force/Force Z'")
 
+# An inverted particle (neo-Hookean disks at 2.8 times the stable step): exit 1, the message
+# names the first inverted particle by global id and body, summary.yaml says diverged; at np 2
+# every rank gives the same particle.
+file(READ "${SRC}/../apps/colliding_disks_explicit_cpgimp_neohookean.yaml" disks)
+string(REPLACE "Time Step: 1.0e-3" "Time Step: 0.06" disks "${disks}")
+string(REPLACE "Number of Steps: 1500" "Number of Steps: 100" disks "${disks}")
+string(REPLACE "      FLIP Fraction: 1.0" "      FLIP Fraction: 1.0\n      Stability Factor: 10" disks "${disks}")
+string(REPLACE "Plot: true" "Plot: false" disks "${disks}")
+foreach(np 1 2)
+  set(output "${WORK}/out_inverted_np${np}")
+  run_and_check(inverted_np${np} "${disks}" "${output}" ${np} 1 "particle 135 of body 'lower disk'")
+  file(READ "${output}/summary.yaml" summary)
+  foreach(expected "Status: diverged" "is inverted: det F = -")
+    string(FIND "${summary}" "${expected}" found)
+    if(found EQUAL -1)
+      message(FATAL_ERROR "inverted_np${np}: summary.yaml lacks '${expected}': ${summary}")
+    endif()
+  endforeach()
+endforeach()
+
+# A neo-Hookean material in plane stress, and with the FE reference; a Ramp load without its
+# duration: rejected, naming the key.
+set(good "${good_bar}")
+expect_failure(neo_hookean_plane_stress "Model: Linear Elastic" "Model: Neo-Hookean"
+               "'Materials/Material/Model' = Neo-Hookean is plane strain or 3D")
+expect_failure(ramp_without_duration "Time Function: Step" "Time Function: Ramp" "Ramp Time' must be positive")
+file(READ "${SRC}/../apps/bar_implicit_fe_q9_plane_strain.yaml" good)
+expect_failure(neo_hookean_fe "Model: Linear Elastic" "Model: Neo-Hookean"
+               "Model' = Neo-Hookean needs moving particles")
+set(good "${good_bar}")
 # A diverging explicit run (dt 3.75 times the stable step, allowed by Stability Factor 5): exit
 # 1 with a message that says so (not "particles left the grid"), summary.yaml Status: diverged,
 # history.csv up to the last good step. At np 2 as well: every rank stops.
