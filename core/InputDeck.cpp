@@ -115,10 +115,14 @@ void checkList(const ParameterList& deck, const ParameterList& valid, const std:
 RCP<const ParameterList> collectionTemplate(const std::string& collection) {
   auto pl = rcp(new ParameterList(collection));
   if (collection == "Materials") {
-    choice(*pl, "Model", "Linear Elastic", {"Linear Elastic", "Neo-Hookean"},
+    choice(*pl, "Model", "Linear Elastic", {"Linear Elastic", "Neo-Hookean", "J2 Plasticity"},
            "constitutive model. Linear Elastic: small strain (the seed problems); Neo-Hookean: compressible "
            "hyperelastic at finite strain, W = mu/2 (tr b - 3) - mu ln J + lambda/2 (ln J)^2 with the Lame "
-           "constants of Young Modulus and Poisson Ratio (plane strain or 3D; not with FE Q4/Q9)");
+           "constants of Young Modulus and Poisson Ratio; J2 Plasticity: von Mises elastoplasticity at finite "
+           "strain (multiplicative split, Hencky elasticity, radial return, linear isotropic hardening: Yield "
+           "Stress, Hardening Modulus). The finite-strain models are plane strain or 3D, not with FE Q4/Q9");
+    number(*pl, "Yield Stress", 0.0, "J2 Plasticity: initial yield stress sigma_y (Pa, > 0)");
+    number(*pl, "Hardening Modulus", 0.0, "J2 Plasticity: linear isotropic hardening modulus H (Pa, >= 0)");
     number(*pl, "Young Modulus", 200.0e9, "E (Pa)");
     number(*pl, "Poisson Ratio", 0.3, "nu, in (-1, 0.5)");
     number(*pl, "Density", 7800.0, "rho (kg/m^3)");

@@ -38,6 +38,7 @@ struct ParticleSet {
   using Stress = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;  // count x 4 (2D) or 6 (3D)
   using Ids = Kokkos::View<int*, DeviceType>;
   using GlobalIds = Kokkos::View<long long*, DeviceType>;
+  using Hist = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;  // count x kHistoryCount
 
   int count = 0;
   int dim = 2;
@@ -55,6 +56,11 @@ struct ParticleSet {
   // Displacement of particles that do not move (the FE reference's Gauss points); empty
   // otherwise, where the displacement is x - x0.
   Vec u;
+  // Per-particle history of path-dependent materials (J2: b_e and alpha, kHistoryCount
+  // columns); empty unless a material needs it (allocateHistory).
+  Hist history;
+  bool historyAllocated = false;
+  static constexpr int kHistoryCount = 7;
   // Identity: the body and material (indices into the deck's Bodies and Materials) and a global
   // id that does not depend on the MPI decomposition (monitors and particle loads use it).
   Ids body;
@@ -62,6 +68,17 @@ struct ParticleSet {
   GlobalIds id;
 
   bool fixedPositions() const { return u.extent(0) > 0; }
+  // (A flag, not the view's extent: a rank may hold no particles and still receive some.)
+  bool hasHistory() const { return historyAllocated; }
+  // Allocates the history, every particle at the virgin state (b_e = I, alpha = 0).
+  void allocateHistory() {
+    historyAllocated = true;
+    history = Hist("history", count, kHistoryCount);
+    auto h = history;
+    Kokkos::parallel_for("init_history", Kokkos::RangePolicy<ExecutionSpace>(0, count), KOKKOS_LAMBDA(int p) {
+      h(p, 0) = 1; h(p, 1) = 1; h(p, 3) = 1;  // b_e = I in the stored layout (xx, yy, xy, zz, yz, xz)
+    });
+  }
   int stressCount() const { return stressComponents(dim); }
 
   ParticleSet() = default;
@@ -85,13 +102,15 @@ struct ParticleSet {
   // --- ready for migration between ranks: every field of a particle as one row of doubles ---
   // (ids fit a double exactly below 2^53). The scratch `gradient` is not carried; the fixed
   // particles' `u` is (FE reference), when present.
-  int packedWidth() const { return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0); }
+  int packedWidth() const {
+    return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0) + (hasHistory() ? kHistoryCount : 0);
+  }
   using Packed = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;
 
   // Rows of `buffer` (extent indices.extent(0) x packedWidth()) from the particles `indices`.
   void pack(const Ids& indices, const Packed& buffer) const {
     const ParticleSet ps = *this;
-    const bool withU = fixedPositions();
+    const bool withU = fixedPositions(), withHistory = hasHistory();
     const int nd = dim, ns = stressCount();
     Kokkos::parallel_for(
         "particles_pack", Kokkos::RangePolicy<ExecutionSpace>(0, indices.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -108,6 +127,8 @@ struct ParticleSet {
           buffer(k, c++) = ps.body(p); buffer(k, c++) = ps.material(p); buffer(k, c++) = (double)ps.id(p);
           if (withU)
             for (int d = 0; d < nd; ++d) buffer(k, c++) = ps.u(p, d);
+          if (withHistory)
+            for (int i = 0; i < kHistoryCount; ++i) buffer(k, c++) = ps.history(p, i);
         });
   }
 
@@ -116,7 +137,7 @@ struct ParticleSet {
     const int first = count;
     resize(count + (int)buffer.extent(0));
     const ParticleSet ps = *this;
-    const bool withU = fixedPositions();
+    const bool withU = fixedPositions(), withHistory = hasHistory();
     const int nd = dim, ns = stressCount();
     Kokkos::parallel_for(
         "particles_unpack", Kokkos::RangePolicy<ExecutionSpace>(0, buffer.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -133,6 +154,8 @@ struct ParticleSet {
           ps.body(p) = (int)buffer(k, c++); ps.material(p) = (int)buffer(k, c++); ps.id(p) = (long long)buffer(k, c++);
           if (withU)
             for (int d = 0; d < nd; ++d) ps.u(p, d) = buffer(k, c++);
+          if (withHistory)
+            for (int i = 0; i < kHistoryCount; ++i) ps.history(p, i) = buffer(k, c++);
         });
   }
 
@@ -143,6 +166,7 @@ struct ParticleSet {
     Kokkos::resize(stress, n, stressCount()); Kokkos::resize(F, n, dim, dim); Kokkos::resize(gradient, n, dim, dim);
     Kokkos::resize(body, n); Kokkos::resize(material, n); Kokkos::resize(id, n);
     if (fixedPositions()) Kokkos::resize(u, n, dim);
+    if (hasHistory()) Kokkos::resize(history, n, kHistoryCount);
     count = n;
   }
 
@@ -168,12 +192,13 @@ struct FixedParticleViews {
   Stress stress;
   ParticleSet::Scal mass, volume0, volume;
   ParticleSet::Ids material;
+  ParticleSet::Hist history;
 
   explicit FixedParticleViews(const ParticleSet& ps)
       : x(vec(ps.x)), x0(vec(ps.x0)), v(vec(ps.v)), a(vec(ps.a)), halfSize(vec(ps.halfSize)),
         F(ps.F.data(), ps.F.extent(0)), gradient(ps.gradient.data(), ps.gradient.extent(0)),
         stress(ps.stress.data(), ps.stress.extent(0)), mass(ps.mass), volume0(ps.volume0), volume(ps.volume),
-        material(ps.material) {}
+        material(ps.material), history(ps.history) {}
 };
 
 // The heaviest particle's mass over all ranks (the reference for void grid nodes).

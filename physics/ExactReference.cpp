@@ -240,7 +240,11 @@ class SelfWeightColumn : public ExactReference {
     column_.gravity = -load.accelerationY;
     column_.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
     column_.mu = m.E / (2 * (1 + m.nu));
-    column_.neoHookean = m.model == MaterialModel::NeoHookean;
+    column_.law = m.model == MaterialModel::NeoHookean     ? SelfWeightColumnExact::Law::NeoHookean
+                  : m.model == MaterialModel::J2Plasticity ? SelfWeightColumnExact::Law::J2
+                                                           : SelfWeightColumnExact::Law::Linear;
+    column_.yieldStress = m.yieldStress;
+    column_.hardening = m.hardening;
     modulus_ = column_.lambda + 2 * column_.mu;  // the constrained modulus M of the laterally confined column
     yMin_ = b.rect.yMin;
     time_ = load.time;

@@ -6,11 +6,12 @@
 //   finiteStrain(m)                   the model is written in the current configuration (the
 //                                     implicit residual then integrates over the deformed
 //                                     domain and the stiffness adds the geometric term)
-//   stress<Dim>(m, s0, G, F, s)       stress after a displacement-gradient increment G from
-//                                     stress s0; F is the deformation gradient after it
+//   stress<Dim>(m, s0, G, F, h, s)    stress after a displacement-gradient increment G from
+//                                     stress s0; F is the deformation gradient after it, h the
+//                                     particle's history (hasHistory(m): read and updated)
 //   tangent<Dim>(m, J, D)             dsigma/deps on the Voigt strains (2D: xx, yy, 2xy), for
 //                                     K = int B^T D B over the current volume (J = V / V0)
-//   energyDensity<Dim>(m, s, F)       strain energy per unit current volume
+//   energyDensity<Dim>(m, s, F, h)    (elastic) strain energy per unit current volume
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -22,6 +23,7 @@
 
 #include "core/ParticleSet.hpp"
 #include "core/Types.hpp"
+#include "physics/materials/J2PlasticityModel.hpp"
 #include "physics/materials/LinearElasticModel.hpp"
 #include "physics/materials/NeoHookeanModel.hpp"
 
@@ -30,46 +32,60 @@ namespace impm {
 // The 2D idealisations, and Solid for 3D.
 enum class PlaneCondition { PlaneStrain, PlaneStress, Solid };
 
-enum class MaterialModel { LinearElastic = 0, NeoHookean = 1 };
+enum class MaterialModel { LinearElastic = 0, NeoHookean = 1, J2Plasticity = 2 };
 
-// One material's parameters, as the deck gives them. Neo-Hookean takes its Lame constants from
-// E and nu (the small-strain limit is the linear law).
+// One material's parameters, as the deck gives them. Neo-Hookean and J2 take their Lame
+// constants from E and nu (the small-strain limit of both is the linear law).
 struct MaterialParameters {
   double E = 1.0, nu = 0.0, density = 1.0;
   MaterialModel model = MaterialModel::LinearElastic;
+  double yieldStress = 0.0, hardening = 0.0;  // J2: sigma_y (> 0) and the isotropic modulus H (>= 0)
 };
 
 struct MaterialLaw {
-  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Count };
+  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Yield, Hardening, Count };
   Kokkos::View<double* [Count], Kokkos::LayoutRight, DeviceType> table;
 
   KOKKOS_INLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
-  KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) == (int)MaterialModel::NeoHookean; }
+  KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) != (int)MaterialModel::LinearElastic; }
+  KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) == (int)MaterialModel::J2Plasticity; }
   KOKKOS_INLINE_FUNCTION LinearElasticModel linearElastic(int m) const {
     return LinearElasticModel{table(m, C11), table(m, C12), table(m, C33), table(m, CZZ), table(m, InvDet)};
   }
   KOKKOS_INLINE_FUNCTION NeoHookeanModel neoHookean(int m) const { return NeoHookeanModel{table(m, Lambda), table(m, Mu)}; }
+  KOKKOS_INLINE_FUNCTION J2PlasticityModel j2(int m) const {
+    return J2PlasticityModel{table(m, Lambda), table(m, Mu), table(m, Yield), table(m, Hardening)};
+  }
 
   // s may alias s0.
   template <int Dim>
   KOKKOS_INLINE_FUNCTION void stress(int m, const double* s0, const double (&G)[Dim][Dim], const double (&F)[Dim][Dim],
-                                     double* s) const {
-    if (finiteStrain(m))
+                                     double* h, double* s) const {
+    const int kind = model(m);
+    if (kind == (int)MaterialModel::LinearElastic)
+      linearElastic(m).template stress<Dim>(s0, G, s);
+    else if (kind == (int)MaterialModel::NeoHookean)
       neoHookean(m).template stress<Dim>(F, s);
     else
-      linearElastic(m).template stress<Dim>(s0, G, s);
+      j2(m).template stress<Dim>(G, determinant<Dim>(F), h, s);
   }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION void tangent(int m, double J,
                                       double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) const {
-    if (finiteStrain(m))
+    const int kind = model(m);
+    if (kind == (int)MaterialModel::LinearElastic)
+      isotropicTangent<Dim>(table(m, C11), table(m, C12), table(m, C33), D);
+    else if (kind == (int)MaterialModel::NeoHookean)
       neoHookean(m).template tangent<Dim>(J, D);
     else
-      isotropicTangent<Dim>(table(m, C11), table(m, C12), table(m, C33), D);
+      j2(m).template tangent<Dim>(J, D);
   }
   template <int Dim>
-  KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim]) const {
-    return finiteStrain(m) ? neoHookean(m).template energyDensity<Dim>(F) : linearElastic(m).template energyDensity<Dim>(s);
+  KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim], const double* h) const {
+    const int kind = model(m);
+    if (kind == (int)MaterialModel::LinearElastic) return linearElastic(m).template energyDensity<Dim>(s);
+    if (kind == (int)MaterialModel::NeoHookean) return neoHookean(m).template energyDensity<Dim>(F);
+    return j2(m).energyDensity(h, determinant<Dim>(F));
   }
 };
 
@@ -89,6 +105,8 @@ class Materials {
       h(m, Law::InvDet) = 1.0 / (c11(m) * c11(m) - c12(m) * c12(m));
       h(m, Law::Lambda) = E * nu / ((1 + nu) * (1 - 2 * nu));
       h(m, Law::Mu) = E / (2 * (1 + nu));
+      h(m, Law::Yield) = params_[m].yieldStress;
+      h(m, Law::Hardening) = params_[m].hardening;
     }
     Kokkos::deep_copy(law_.table, h);
   }
@@ -103,7 +121,12 @@ class Materials {
   bool anyFiniteStrain() const {
     return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return p.model != MaterialModel::LinearElastic; });
   }
-  static std::string modelName(MaterialModel m) { return m == MaterialModel::NeoHookean ? "Neo-Hookean" : "Linear Elastic"; }
+  bool anyHistory() const {
+    return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return p.model == MaterialModel::J2Plasticity; });
+  }
+  static std::string modelName(MaterialModel m) {
+    return m == MaterialModel::NeoHookean ? "Neo-Hookean" : m == MaterialModel::J2Plasticity ? "J2 Plasticity" : "Linear Elastic";
+  }
   double density(int m) const { return params_[m].density; }
   double c11(int m) const {
     const double E = params_[m].E, nu = params_[m].nu;

@@ -232,6 +232,7 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
       const LocalNodeIndexer ix = dist_.ghostedIndexer();
       auto vol = ps_.volume; auto sig = ps_.stress; auto matId = ps_.material;
       auto Fp = FixedParticleViews<Dim>(ps_).F;
+      auto hist = ps_.history;
       const auto law = mat_.law();
       scatterToGrid<Exec, Shape, Dim>(
           "implicit_internal_force", dist_.grid(), ps_, f, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
@@ -251,7 +252,12 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
             double trial[StressLayout<Dim>::count];
             loadStress<Dim>(sig, p, trial);
             const int m = matId(p);
-            law.template stress<Dim>(m, trial, G, F, trial);
+            // A path-dependent law works on a copy of the history: the trial state is discarded.
+            double h[ParticleSet::kHistoryCount];
+            const bool withHistory = law.hasHistory(m);
+            if (withHistory)
+              for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
+            law.template stress<Dim>(m, trial, G, F, withHistory ? h : nullptr, trial);
             if (law.finiteStrain(m))
               scatterInternalForceDeformed(st, ix, vol(p), trial, G, out, ForceColumns<Dim>::ForceX);
             else

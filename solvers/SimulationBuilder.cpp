@@ -156,6 +156,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   dist_ = std::make_unique<GridDistribution>(grid_, comm_);
   try {
     particles_ = createParticles(bodies_, materials_, *dist_, placement_, thickness_);
+    if (materials_.anyHistory()) particles_.allocateHistory();
   } catch (const std::invalid_argument& e) {
     throw DeckError(e.what());
   }
@@ -234,14 +235,27 @@ void Simulation::buildMaterialsAndBodies() {
     p.nu = m.get<double>("Poisson Ratio");
     if (!(p.nu > -1.0 && p.nu < 0.5))
       throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + formatNumber(p.nu));
-    p.model = m.get<std::string>("Model") == "Neo-Hookean" ? MaterialModel::NeoHookean : MaterialModel::LinearElastic;
-    if (p.model == MaterialModel::NeoHookean) {
+    const std::string model = m.get<std::string>("Model");
+    p.model = model == "Neo-Hookean"     ? MaterialModel::NeoHookean
+              : model == "J2 Plasticity" ? MaterialModel::J2Plasticity
+                                         : MaterialModel::LinearElastic;
+    if (p.model != MaterialModel::LinearElastic) {
       if (grid_.dim == 2 && deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress")
-        throw DeckError("'" + key + "/Model' = Neo-Hookean is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
+        throw DeckError("'" + key + "/Model' = " + model + " is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
                         "would need the out-of-plane stretch solved per particle (use Plane Strain or Grid/Dimension 3)");
       if (shape_ == "FE Q4" || shape_ == "FE Q9")
-        throw DeckError("'" + key + "/Model' = Neo-Hookean needs moving particles; 'Method/Shape Function' = " + shape_ +
-                        " is the small-strain finite-element reference (use MPM or GIMP)");
+        throw DeckError("'" + key + "/Model' = " + model + " needs moving particles; 'Method/Shape Function' = " + shape_ +
+                        " is the small-strain finite-element reference (use MPM, GIMP or cpGIMP)");
+    }
+    if (p.model == MaterialModel::J2Plasticity) {
+      p.yieldStress = positive(m, key, "Yield Stress");
+      p.hardening = m.get<double>("Hardening Modulus");
+      if (!(p.hardening >= 0))
+        throw DeckError("'" + key + "/Hardening Modulus' must not be negative, got " + formatNumber(p.hardening));
+    } else {
+      for (const char* plastic : {"Yield Stress", "Hardening Modulus"})
+        if (m.isParameter(plastic) && !m.getEntry(plastic).isDefault())
+          throw DeckError("'" + key + "/" + plastic + "' is a J2 Plasticity parameter; 'Model' = " + model + " does not use it");
     }
     params.push_back(p);
     materialNames_.push_back(name);

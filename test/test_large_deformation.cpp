@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <string>
 #include <sstream>
 
@@ -39,6 +40,8 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   deck->sublist("Grid").set("Cells Y", cellsY).set("Cell Size Y", h);
   deck->sublist("Method").set("Shape Function", shape);
   deck->sublist("Materials").sublist("soil").set("Model", model);
+  if (model == "J2 Plasticity")  // yields where the log strain exceeds sigma_y / (2 mu) = 4%: most of the column
+    deck->sublist("Materials").sublist("soil").set("Yield Stress", 3.0e4).set("Hardening Modulus", 1.0e5);
   deck->sublist("Loads").sublist("gravity").set("Acceleration Y", -gravity);
   // The monitored top particle: the centre of the top-left particle of this grid (2 x 2 per cell).
   deck->sublist("Monitors").sublist("top settlement").set("Y", height - 0.25 * h);
@@ -58,7 +61,11 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   exact.gravity = gravity;
   exact.lambda = mat.E * mat.nu / ((1 + mat.nu) * (1 - 2 * mat.nu));
   exact.mu = mat.E / (2 * (1 + mat.nu));
-  exact.neoHookean = model == "Neo-Hookean";
+  exact.law = model == "Neo-Hookean"     ? impm::SelfWeightColumnExact::Law::NeoHookean
+              : model == "J2 Plasticity" ? impm::SelfWeightColumnExact::Law::J2
+                                         : impm::SelfWeightColumnExact::Law::Linear;
+  exact.yieldStress = mat.yieldStress;
+  exact.hardening = mat.hardening;
 
   const impm::ParticleSet& ps = sim.particles();
   auto x0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x0);
@@ -84,7 +91,7 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
     if (line.find("Newton Iterations Mean:") != std::string::npos) e.newtonMean = valueOf("Newton Iterations Mean:");
     if (line.find("Krylov Iterations Per Newton Mean:") != std::string::npos) e.krylovMean = valueOf("Krylov Iterations Per Newton Mean:");
   }
-  out << shape << " " << model << " column, " << cellsY << " cells: sigma_yy relative L2 " << e.stressL2
+  out << std::setprecision(4) << shape << " " << model << " column, " << cellsY << " cells: sigma_yy relative L2 " << e.stressL2
       << ", top settlement " << e.topSettlement << " m (exact " << exactTop << ", error " << e.topRelative
       << "); JFNK: " << e.newtonMean << " Newton iterations per step, " << e.krylovMean << " GMRES per Newton\n";
   return e;
@@ -121,6 +128,21 @@ TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnFixedDomainsOscillate) {
   const ColumnErrors points = runColumn("MPM", 40, "Neo-Hookean", out);
   TEST_COMPARE(5 * convected.stressL2, <, uniform.stressL2);
   TEST_COMPARE(5 * convected.stressL2, <, points.stressL2);
+}
+
+TEUCHOS_UNIT_TEST(LargeDeformation, J2ColumnMatchesTheElastoplasticSolution) {
+  // J2 plasticity (Hencky, linear hardening) under the same gravity: the lower part yields and
+  // settles more than the elastic column. sigma_yy is the same equilibrium profile; the settlement
+  // is the integral of the elastoplastic uniaxial-strain stretch (physics/ColumnExact.hpp).
+  const ColumnErrors medium = runColumn("cpGIMP", 20, "J2 Plasticity", out);
+  const ColumnErrors fine = runColumn("cpGIMP", 40, "J2 Plasticity", out);
+  const ColumnErrors elastic = runColumn("cpGIMP", 40, "Neo-Hookean", out);
+  TEST_COMPARE(std::abs(fine.topSettlement), >, 1.1 * std::abs(elastic.topSettlement));  // measured 0.148 m against 0.125 m
+  TEST_COMPARE(fine.stressL2, <, medium.stressL2);
+  TEST_COMPARE(fine.stressL2, <, 0.01);
+  TEST_COMPARE(fine.topRelative, <, 0.005);
+  TEST_COMPARE(fine.newtonMean, <=, 6.0);
+  TEST_COMPARE(fine.krylovMean, <=, 15.0);
 }
 
 TEUCHOS_UNIT_TEST(LargeDeformation, LinearColumnAtSmallStrain) {

@@ -27,7 +27,7 @@ struct Probe {
     double F[Dim][Dim];
     for (int i = 0; i < Dim; ++i)
       for (int j = 0; j < Dim; ++j) F[i][j] = (i == j ? 1.0 : 0.0) + G[i][j];
-    law.template stress<Dim>(material, s0, G, F, s);
+    law.template stress<Dim>(material, s0, G, F, nullptr, s);
   }
   double energy(const double (&G)[Dim][Dim]) const {
     double s[StressLayout<Dim>::count];
@@ -35,7 +35,7 @@ struct Probe {
     double F[Dim][Dim];
     for (int i = 0; i < Dim; ++i)
       for (int j = 0; j < Dim; ++j) F[i][j] = (i == j ? 1.0 : 0.0) + G[i][j];
-    return law.template energyDensity<Dim>(material, s, F);
+    return law.template energyDensity<Dim>(material, s, F, nullptr);
   }
 };
 
@@ -95,7 +95,7 @@ TEUCHOS_UNIT_TEST(Material, SolidUniaxialStressHasModulusE) {
   const double G[3][3] = {{eps, 0, 0}, {0, -nu * eps, 0}, {0, 0, -nu * eps}};
   double s0[6] = {}, s[6];
   const double F[3][3] = {{1 + eps, 0, 0}, {0, 1 - nu * eps, 0}, {0, 0, 1 - nu * eps}};
-  materials.law().stress<3>(0, s0, G, F, s);
+  materials.law().stress<3>(0, s0, G, F, nullptr, s);
   TEST_FLOATING_EQUALITY(s[0], E * eps, 1e-12);
   TEST_COMPARE(std::abs(s[1]), <, 1e-12 * E * eps);
   TEST_COMPARE(std::abs(s[3]), <, 1e-12 * E * eps);
@@ -111,13 +111,13 @@ struct NeoHookeanProbe {
   // Kirchhoff stress tau = J sigma (stored layout) and W = J (W / J) at F.
   void kirchhoff(const double (&F)[Dim][Dim], double* tau) const {
     double s0[StressLayout<Dim>::count] = {}, G[Dim][Dim] = {};
-    law.template stress<Dim>(material, s0, G, F, tau);
+    law.template stress<Dim>(material, s0, G, F, nullptr, tau);
     const double J = determinant<Dim>(F);
     for (int c = 0; c < StressLayout<Dim>::count; ++c) tau[c] *= J;
   }
   double energy(const double (&F)[Dim][Dim]) const {
     double s[StressLayout<Dim>::count] = {};
-    return determinant<Dim>(F) * law.template energyDensity<Dim>(material, s, F);
+    return determinant<Dim>(F) * law.template energyDensity<Dim>(material, s, F, nullptr);
   }
 };
 
@@ -208,5 +208,126 @@ void checkNeoHookean(Teuchos::FancyOStream& out, bool& success) {
 
 TEUCHOS_UNIT_TEST(Material, NeoHookeanPlaneStrainStressAndTangent) { checkNeoHookean<2>(out, success); }
 TEUCHOS_UNIT_TEST(Material, NeoHookeanSolidStressAndTangent) { checkNeoHookean<3>(out, success); }
+
+// --- J2 plasticity at finite strain ---
+
+// Drives one J2 particle through the deformation gradients F_1 ... F_N (increments
+// f = F_{k+1} F_k^-1 from F_0 = I) and returns the Cauchy stress, the history and J.
+template <int Dim>
+struct J2Driver {
+  MaterialLaw law;
+  double h[ParticleSet::kHistoryCount];
+  double s[StressLayout<Dim>::count] = {};
+  double F[Dim][Dim];
+  explicit J2Driver(const MaterialLaw& l) : law(l) {
+    J2PlasticityModel::initialHistory(h);
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) F[i][j] = i == j ? 1.0 : 0.0;
+  }
+  void stepTo(const double (&Fnew)[Dim][Dim]) {
+    double inv[Dim][Dim], f[Dim][Dim], G[Dim][Dim];
+    inverse<Dim>(F, determinant<Dim>(F), inv);
+    multiply<Dim>(Fnew, inv, f);
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) G[i][j] = f[i][j] - (i == j ? 1.0 : 0.0);
+    law.template stress<Dim>(0, s, G, Fnew, h, s);
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) F[i][j] = Fnew[i][j];
+  }
+};
+
+// Proportional loading in fixed principal axes, rotated by R: with logarithmic strains the
+// return map is exactly the small-strain one, so the Kirchhoff stress must equal the closed-form
+// small-strain J2 solution evaluated at the log strains, K tr(e) I + q n with
+//   q = 2 mu |dev e| (elastic) or 2 mu (|dev e| - Gamma), Gamma = (2 mu |dev e| - sqrt(2/3) sigma_y) / (2 mu + 2 H / 3),
+// and alpha = sqrt(2/3) Gamma: to round-off, after 40 steps that cross the yield point.
+template <int Dim>
+void checkJ2Proportional(Teuchos::FancyOStream& out, bool& success) {
+  using SL = StressLayout<Dim>;
+  const double E = 200e9, nu = 0.3, sy = 250e6, H = 2e9;
+  MaterialParameters steel{E, nu, 7800, MaterialModel::J2Plasticity, sy, H};
+  const Materials materials({steel}, Dim == 2 ? PlaneCondition::PlaneStrain : PlaneCondition::Solid);
+  const double mu = materials.c33(0), lambda = materials.c12(0), K = lambda + 2 * mu / 3;
+  // Final log strains: a 30% compression with lateral flow (plane strain: e_zz = 0).
+  const double eFinal[3] = {-0.3, Dim == 2 ? 0.25 : 0.12, Dim == 2 ? 0.0 : 0.14};
+  const double angle = 0.4;
+  const double R[3][3] = {{std::cos(angle), -std::sin(angle), 0}, {std::sin(angle), std::cos(angle), 0}, {0, 0, 1}};
+  J2Driver<Dim> driver(materials.law());
+  const int steps = 40;
+  for (int k = 1; k <= steps; ++k) {
+    const double t = double(k) / steps;
+    double F[Dim][Dim];
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) {
+        double v = 0;
+        for (int a = 0; a < Dim; ++a) v += R[i][a] * std::exp(eFinal[a] * t) * R[j][a];  // R U (R^T): a rotated stretch
+        F[i][j] = v;
+      }
+    driver.stepTo(F);
+  }
+  // Closed form.
+  const double vol = eFinal[0] + eFinal[1] + eFinal[2];
+  double dev[3], norm = 0;
+  for (int a = 0; a < 3; ++a) {
+    dev[a] = eFinal[a] - vol / 3;
+    norm += dev[a] * dev[a];
+  }
+  norm = std::sqrt(norm);
+  const double root23 = std::sqrt(2.0 / 3.0);
+  const double Gamma = std::max(0.0, (2 * mu * norm - root23 * sy) / (2 * mu + 2 * H / 3));
+  TEST_COMPARE(Gamma, >, 0.1);  // well into the plastic range
+  const double q = 2 * mu * (norm - Gamma);
+  const double J = std::exp(vol);
+  double worst = 0;
+  for (int i = 0; i < Dim; ++i)
+    for (int j = i; j < Dim; ++j) {
+      double tau = 0;
+      for (int a = 0; a < Dim; ++a) tau += R[i][a] * (K * vol + q * dev[a] / norm) * R[j][a];
+      worst = std::max(worst, std::abs(J * driver.s[SL::index(i, j)] - tau) / sy);
+    }
+  if (Dim == 2) worst = std::max(worst, std::abs(J * driver.s[3] - (K * vol + q * dev[2] / norm)) / sy);
+  out << Dim << "D J2, 30% compression in " << steps << " rotated steps: |J sigma - closed form| <= " << worst
+      << " sigma_y, alpha = " << driver.h[6] << " (closed form " << root23 * Gamma << ")\n";
+  TEST_COMPARE(worst, <, 1e-8);
+  TEST_FLOATING_EQUALITY(driver.h[6], root23 * Gamma, 1e-10);
+}
+
+TEUCHOS_UNIT_TEST(Material, J2PlaneStrainProportionalLoadingMatchesClosedForm) { checkJ2Proportional<2>(out, success); }
+TEUCHOS_UNIT_TEST(Material, J2SolidProportionalLoadingMatchesClosedForm) { checkJ2Proportional<3>(out, success); }
+
+// A random large step: the returned stress lies on the yield surface of the updated alpha, and
+// plastic flow is isochoric (det b_e = J^2).
+TEUCHOS_UNIT_TEST(Material, J2ReturnIsOnTheYieldSurfaceAndIsochoric) {
+  const double sy = 1e6, H = 1e7;
+  MaterialParameters clay{1e8, 0.35, 2000, MaterialModel::J2Plasticity, sy, H};
+  const Materials materials({clay}, PlaneCondition::Solid);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  J2Driver<3> driver(materials.law());
+  for (int k = 0; k < 5; ++k) {
+    double F[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F[i][j] = driver.F[i][j] + u(rng);
+    driver.stepTo(F);
+    const double J = determinant<3>(driver.F);
+    TEST_COMPARE(J, >, 0.2);
+    // |dev tau| against sqrt(2/3) (sigma_y + H alpha).
+    double tau[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) tau[i][j] = J * driver.s[StressLayout<3>::index(i, j)];
+    const double p = (tau[0][0] + tau[1][1] + tau[2][2]) / 3;
+    double q2 = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) q2 += std::pow(tau[i][j] - (i == j ? p : 0.0), 2);
+    const double radius = std::sqrt(2.0 / 3.0) * (sy + H * driver.h[6]);
+    TEST_COMPARE(std::sqrt(q2), <=, radius * (1 + 1e-10));
+    TEST_COMPARE(driver.h[6], >, 0.0);  // steps of 20% strain on a 1% yield strain all flow
+    double be[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) be[i][j] = driver.h[StressLayout<3>::index(i, j)];
+    TEST_FLOATING_EQUALITY(std::sqrt(determinant<3>(be)), J, 1e-10);
+    out << "step " << k << ": J = " << J << ", |dev tau| / radius = " << std::sqrt(q2) / radius << ", alpha = " << driver.h[6] << "\n";
+  }
+}
 
 }  // namespace

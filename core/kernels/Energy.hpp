@@ -24,6 +24,7 @@ template <class ExecSpace, int Dim, class Law>
 ParticleTotals particleTotals(const ParticleSet& ps, const Law& law, const Teuchos::Comm<int>& comm) {
   auto m = ps.mass; auto v = ps.v; auto s = ps.stress; auto V = ps.volume; auto matId = ps.material;
   auto F = FixedParticleViews<Dim>(ps).F;
+  auto hist = ps.history;
   double local[6] = {0, 0, 0, 0, 0, 0};
   Kokkos::parallel_reduce(
       "particle_totals", Kokkos::RangePolicy<ExecSpace>(0, ps.count),
@@ -36,7 +37,10 @@ ParticleTotals particleTotals(const ParticleSet& ps, const Law& law, const Teuch
         double Fp[Dim][Dim];
         for (int i = 0; i < Dim; ++i)
           for (int j = 0; j < Dim; ++j) Fp[i][j] = F(p, i, j);
-        se += V(p) * law.template energyDensity<Dim>(matId(p), sp, Fp);
+        double h[ParticleSet::kHistoryCount] = {};
+        if (law.hasHistory(matId(p)))
+          for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
+        se += V(p) * law.template energyDensity<Dim>(matId(p), sp, Fp, h);
         px += m(p) * v(p, 0);
         py += m(p) * v(p, 1);
         if (Dim == 3) pz += m(p) * v(p, Dim - 1);

@@ -38,7 +38,15 @@ KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& p
     }
   double s[ns];
   for (int c = 0; c < ns; ++c) s[c] = ps.stress(p, c);
-  law.template stress<Dim>(ps.material(p), s, G, Fn, s);
+  const int m = ps.material(p);
+  if (law.hasHistory(m)) {
+    double h[ParticleSet::kHistoryCount];
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = ps.history(p, i);
+    law.template stress<Dim>(m, s, G, Fn, h, s);
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) ps.history(p, i) = h[i];
+  } else {
+    law.template stress<Dim>(m, s, G, Fn, nullptr, s);
+  }
   for (int c = 0; c < ns; ++c) ps.stress(p, c) = s[c];
   if (domain.on)
     for (int d = 0; d < Dim; ++d) {

@@ -1,0 +1,159 @@
+// J2 (von Mises) elastoplasticity at finite strain, after Simo (1992) and Simo & Hughes (1998,
+// Box 9.1): the multiplicative split F = F_e F_p, a Hencky (logarithmic) elastic law in the
+// principal axes of the elastic left Cauchy-Green tensor b_e, and the radial return on the
+// Kirchhoff stress with linear isotropic hardening. With log strains the return map is the
+// small-strain one, exactly: for a proportional path it reproduces the small-strain closed form
+// in the log strains (test/test_material.cpp checks this).
+//
+// History per particle (ParticleSet::history): b_e in the stored stress layout (xx, yy, xy, zz,
+// yz, xz) and the equivalent plastic strain alpha. One step with relative deformation gradient
+// f = I + G:
+//   b_e^trial = f b_e^n f^T = sum_A lambda_A^2 n_A (x) n_A,   eps_A = ln lambda_A,
+//   tau_A = K tr(eps) + 2 mu dev(eps)_A,   q = |dev tau|,  phi = q - sqrt(2/3) (sigma_y + H alpha),
+//   phi > 0:  dgamma = phi / (2 mu + 2/3 H),  dev tau -= 2 mu dgamma nu,  eps -= dgamma nu,
+//             alpha += sqrt(2/3) dgamma,   nu = dev tau / q,
+//   sigma = tau / J,   b_e^{n+1} = sum_A exp(2 eps_A) n_A (x) n_A.
+// In 2D (plane strain) z is a principal direction with f_zz = 1; the 3 x 3 algebra is shared.
+// The tangent given to the stiffness (the preconditioner, and the assembled Newton) is the
+// elastic one, (lambda I (x) I + 2 mu II) / J: the Jacobian-free product differentiates the
+// return map itself, so JFNK's Newton sees the exact (algorithmic) tangent anyway.
+#pragma once
+
+#include <cmath>
+
+#include "core/ParticleSet.hpp"
+#include "core/SmallMatrix.hpp"
+#include "physics/materials/LinearElasticModel.hpp"
+
+namespace impm {
+
+// Eigen-decomposition of a symmetric 3 x 3 matrix A = V diag(w) V^T by cyclic Jacobi rotations
+// (quadratically convergent; a few sweeps reach round-off). A is overwritten.
+KOKKOS_INLINE_FUNCTION void symmetricEigen3(double (&A)[3][3], double (&w)[3], double (&V)[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) V[i][j] = i == j ? 1.0 : 0.0;
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    const double off = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
+    const double diag = A[0][0] * A[0][0] + A[1][1] * A[1][1] + A[2][2] * A[2][2];
+    if (off <= 1e-32 * diag || off == 0.0) break;
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q) {
+        if (A[p][q] == 0.0) continue;
+        const double theta = 0.5 * (A[q][q] - A[p][p]) / A[p][q];
+        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        for (int k = 0; k < 3; ++k) {  // A <- A J
+          const double akp = A[k][p], akq = A[k][q];
+          A[k][p] = c * akp - s * akq;
+          A[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {  // A <- J^T A
+          const double apk = A[p][k], aqk = A[q][k];
+          A[p][k] = c * apk - s * aqk;
+          A[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k) {  // V <- V J
+          const double vkp = V[k][p], vkq = V[k][q];
+          V[k][p] = c * vkp - s * vkq;
+          V[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  for (int i = 0; i < 3; ++i) w[i] = A[i][i];
+}
+
+struct J2PlasticityModel {
+  double lambda, mu, yieldStress, hardening;
+  static constexpr int historyCount = 7;  // b_e (6, stored layout) and alpha
+
+  // The initial history: b_e = I, alpha = 0.
+  KOKKOS_INLINE_FUNCTION static void initialHistory(double* h) {
+    h[0] = 1; h[1] = 1; h[2] = 0; h[3] = 1; h[4] = 0; h[5] = 0; h[6] = 0;
+  }
+
+  // Cauchy stress after the relative deformation gradient f = I + G, with J = det F (total);
+  // `h` (b_e, alpha) is read and updated in place.
+  template <int Dim>
+  KOKKOS_INLINE_FUNCTION void stress(const double (&G)[Dim][Dim], double J, double* h, double* s) const {
+    using SL3 = StressLayout<3>;
+    double f[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) f[i][j] += G[i][j];
+    double be[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) be[i][j] = h[SL3::index(i, j)];
+    double fbe[3][3], trial[3][3];
+    multiply<3>(f, be, fbe);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double t = 0;
+        for (int k = 0; k < 3; ++k) t += fbe[i][k] * f[j][k];
+        trial[i][j] = t;
+      }
+    double b[3], n[3][3];
+    symmetricEigen3(trial, b, n);
+    double eps[3];
+    for (int a = 0; a < 3; ++a) eps[a] = 0.5 * std::log(b[a]);
+    const double volumetric = eps[0] + eps[1] + eps[2];
+    const double bulk = lambda + 2.0 * mu / 3.0;
+    double dev[3], q2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      dev[a] = 2.0 * mu * (eps[a] - volumetric / 3.0);
+      q2 += dev[a] * dev[a];
+    }
+    const double q = std::sqrt(q2), root23 = 0.816496580927726;  // sqrt(2/3)
+    const double phi = q - root23 * (yieldStress + hardening * h[6]);
+    if (phi > 0.0) {
+      const double dgamma = phi / (2.0 * mu + 2.0 * hardening / 3.0);
+      for (int a = 0; a < 3; ++a) {
+        const double nu = dev[a] / q;
+        dev[a] -= 2.0 * mu * dgamma * nu;
+        eps[a] -= dgamma * nu;
+      }
+      h[6] += root23 * dgamma;
+    }
+    double tau[3];
+    for (int a = 0; a < 3; ++a) tau[a] = bulk * volumetric + dev[a];
+    const double invJ = 1.0 / J;
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        double sij = 0, bij = 0;
+        for (int a = 0; a < 3; ++a) {
+          sij += tau[a] * n[i][a] * n[j][a];
+          bij += std::exp(2.0 * eps[a]) * n[i][a] * n[j][a];
+        }
+        h[SL3::index(i, j)] = bij;
+        if (i < Dim && j < Dim) s[StressLayout<Dim>::index(i, j)] = sij * invJ;
+      }
+    if constexpr (Dim == 2) {  // sigma_zz: z is principal (f_zz = 1, b_e xz = yz = 0)
+      double szz = 0;
+      for (int a = 0; a < 3; ++a) szz += tau[a] * n[2][a] * n[2][a];
+      s[3] = szz * invJ;
+    }
+  }
+
+  // The elastic (Hencky) stored energy per unit current volume, from b_e.
+  KOKKOS_INLINE_FUNCTION double energyDensity(const double* h, double J) const {
+    using SL3 = StressLayout<3>;
+    double be[3][3], b[3], n[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) be[i][j] = h[SL3::index(i, j)];
+    symmetricEigen3(be, b, n);
+    double eps[3], volumetric = 0;
+    for (int a = 0; a < 3; ++a) {
+      eps[a] = 0.5 * std::log(b[a]);
+      volumetric += eps[a];
+    }
+    double dev2 = 0;
+    for (int a = 0; a < 3; ++a) dev2 += (eps[a] - volumetric / 3.0) * (eps[a] - volumetric / 3.0);
+    const double bulk = lambda + 2.0 * mu / 3.0;
+    return (mu * dev2 + 0.5 * bulk * volumetric * volumetric) / J;
+  }
+
+  template <int Dim>
+  KOKKOS_INLINE_FUNCTION void tangent(double J, double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) const {
+    isotropicTangent<Dim>((lambda + 2 * mu) / J, lambda / J, mu / J, D);
+  }
+};
+
+}  // namespace impm
