@@ -292,6 +292,13 @@ RCP<const ParameterList> validParameters() {
            "take the grid's velocity increment dt/2 (a_i + a_i,new); Projected: a_i projected from the "
            "particles' accelerations, v_p += dt/2 (a_p + a_p,new) (Guilkey & Weiss 2003), whose acceleration "
            "error grows at omega dt >> 1 (11 times the static stress after 40 large steps of a step load)");
+    im.set("Adaptive Time Step", false,
+           "sub-step each deck step adaptively on the Newton iteration count (after Uintah's ImpMPM): a sub-step "
+           "that took more than 12 Newton iterations shrinks the next by 0.6, one that took fewer than 4 doubles it "
+           "(never beyond the deck's Time Step), and a failed one is retried at half its size, down to Minimum Time "
+           "Step. history.csv and the VTU files stay on the deck's steps");
+    number(im, "Minimum Time Step", 0.0,
+           "Adaptive Time Step: the smallest sub-step before the run stops (0: the deck's Time Step / 2^Maximum Step Halvings)");
     im.set("Consistent Initial Acceleration", true,
            "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 #include <sstream>
 #include <limits>
@@ -514,7 +515,7 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
 }
 
 template <class Shape, int Dim>
-bool ImplicitNewmark<Shape, Dim>::trySteps(double t, double dt, int depth) {
+bool ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt) {
   using clock = std::chrono::steady_clock;
   auto t0 = clock::now();
   setUpStep(t, dt);
@@ -529,20 +530,64 @@ bool ImplicitNewmark<Shape, Dim>::trySteps(double t, double dt, int depth) {
   secondsSolve_ += std::chrono::duration<double>(t2 - t1).count();
   secondsSolverSetUp_ += result.setupSeconds;
   residualEvaluations_ += result.residualEvaluations;
-  if (result.converged) {
-    finishStep(u);
-    secondsFinish_ += std::chrono::duration<double>(clock::now() - t2).count();
-    newtonPerStep_.push_back(result.newtonIterations);
-    krylovPerNewton_.insert(krylovPerNewton_.end(), result.krylovIterations.begin(), result.krylovIterations.end());
-    return true;
-  }
+  if (!result.converged) return false;
+  finishStep(u);
+  secondsFinish_ += std::chrono::duration<double>(clock::now() - t2).count();
+  newtonPerStep_.push_back(result.newtonIterations);
+  krylovPerNewton_.insert(krylovPerNewton_.end(), result.krylovIterations.begin(), result.krylovIterations.end());
+  return true;
+}
+
+template <class Shape, int Dim>
+bool ImplicitNewmark<Shape, Dim>::trySteps(double t, double dt, int depth) {
+  if (solveStep(t, dt)) return true;
   if (depth >= opt_.maxStepHalvings) return false;
   ++halvings_;
   return trySteps(t, 0.5 * dt, depth + 1) && trySteps(t + 0.5 * dt, 0.5 * dt, depth + 1);
 }
 
+// Uintah ImpMPM's policy on the Newton count n of the last sub-step: n > 12 -> h *= 0.6,
+// n < 4 -> h *= 2 (at most the deck's dt), failure -> h /= 2 and retry. (Uintah also restarts a
+// step above 25 iterations; here NOX's own iteration limit fails it.) The sub-steps end exactly
+// on the deck's step, so that the outputs keep their times.
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::stepAdaptive(double t, double dt) {
+  const double hMin = opt_.minimumTimeStep > 0 ? opt_.minimumTimeStep : dt / std::pow(2.0, opt_.maxStepHalvings);
+  if (subStep_ <= 0) subStep_ = dt;
+  const double tEnd = t + dt;
+  double tc = t;
+  while (tc < tEnd - 1e-12 * dt) {
+    const double h = std::min(subStep_, tEnd - tc);
+    if (!solveStep(tc, h)) {
+      ++rejectedSubSteps_;
+      ++halvings_;
+      if (0.5 * h < hMin * (1 - 1e-12)) {
+        std::ostringstream msg;
+        msg << "Newton did not converge in the sub-step from t = " << tc << " s (dt = " << h
+            << " s), and half of it is below the smallest sub-step " << hMin
+            << " s ('Integrator/Implicit/Minimum Time Step' or Time Step / 2^Maximum Step Halvings)";
+        throw NewtonNotConverged(msg.str());
+      }
+      subStep_ = 0.5 * h;
+      continue;
+    }
+    ++subSteps_;
+    smallestSubStep_ = smallestSubStep_ > 0 ? std::min(smallestSubStep_, h) : h;
+    largestSubStep_ = std::max(largestSubStep_, h);
+    tc += h;
+    const int n = newtonPerStep_.back();
+    // (A sub-step cut short by the end of the deck step does not shrink the carried size.)
+    if (n > 12) subStep_ = 0.6 * h;
+    else if (n < 4) subStep_ = std::min(2.0 * std::max(h, subStep_), dt);
+  }
+}
+
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::step(double t, double dt) {
+  if (opt_.adaptiveTimeStep) {
+    stepAdaptive(t, dt);
+    return;
+  }
   if (!trySteps(t, dt, 0)) {
     std::ostringstream msg;
     msg << "Newton did not converge in the step from t = " << t << " s (dt = " << dt << " s), even with dt halved "
@@ -561,6 +606,13 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   s.set("Krylov Iterations Per Newton Mean", k.empty() ? 0.0 : std::accumulate(k.begin(), k.end(), 0.0) / k.size());
   s.set("Krylov Iterations Per Newton Max", k.empty() ? 0 : *std::max_element(k.begin(), k.end()));
   s.set("Step Halvings", halvings_);
+  if (opt_.adaptiveTimeStep) {
+    Teuchos::ParameterList& a = s.sublist("Adaptive Time Step");
+    a.set("Sub-Steps", (int)subSteps_);
+    a.set("Rejected Sub-Steps", (int)rejectedSubSteps_);
+    a.set("Smallest Sub-Step", smallestSubStep_);
+    a.set("Largest Sub-Step", largestSubStep_);
+  }
   s.set("Residual Evaluations", (int)residualEvaluations_);
   s.set("Seconds Step Set-Up", secondsSetUp_);
   s.set("Seconds Newton Solve", secondsSolve_);

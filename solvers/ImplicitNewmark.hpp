@@ -56,6 +56,10 @@ struct ImplicitOptions {
   // Finite-element reference mode: the particles are Gauss points and do not move; the grid
   // carries the velocity and acceleration from step to step (no projection from particles).
   bool fixedParticles = false;
+  // Adaptive sub-steps within each deck step on the Newton iteration count (see step()); the
+  // smallest sub-step allowed (0: dt / 2^maxStepHalvings).
+  bool adaptiveTimeStep = false;
+  double minimumTimeStep = 0.0;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 
@@ -94,6 +98,9 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   using Exec = ExecutionSpace;
   void setUpStep(double t, double dt);   // grid state at t, external force at t + dt, free dofs
   bool trySteps(double t, double dt, int depth);
+  // One Newton solve of the step [t, t + dt]; false when Newton failed (nothing changed).
+  bool solveStep(double t, double dt);
+  void stepAdaptive(double t, double dt);
   void finishStep(const Vector& u);      // grid and particle update with the converged u
   void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
   void correctProjection();              // consistent-mass correction of v and a on the grid
@@ -140,6 +147,9 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   std::vector<int> newtonPerStep_, krylovPerNewton_;
   int halvings_ = 0;
+  // Adaptive time step: the sub-step carried from step to step (0: not started), the counts.
+  double subStep_ = 0.0, smallestSubStep_ = 0.0, largestSubStep_ = 0.0;
+  long long subSteps_ = 0, rejectedSubSteps_ = 0;
   long residualEvaluations_ = 0;
   double secondsSetUp_ = 0, secondsSolve_ = 0, secondsSolverSetUp_ = 0, secondsFinish_ = 0;
 };

@@ -657,6 +657,13 @@ void Simulation::buildIntegrator() {
     iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
     iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
     iopt.fixedParticles = fe;
+    iopt.adaptiveTimeStep = im.get<bool>("Adaptive Time Step");
+    iopt.minimumTimeStep = im.get<double>("Minimum Time Step");
+    if (!(iopt.minimumTimeStep >= 0))
+      throw DeckError("'Integrator/Implicit/Minimum Time Step' must not be negative, got " + formatNumber(iopt.minimumTimeStep));
+    if (iopt.minimumTimeStep > dt_)
+      throw DeckError("'Integrator/Implicit/Minimum Time Step' = " + formatNumber(iopt.minimumTimeStep) +
+                      " s exceeds 'Integrator/Time Step' = " + formatNumber(dt_) + " s");
     if (iopt.preconditionerRefreshInterval < 1)
       throw DeckError("'Integrator/Implicit/Preconditioner Refresh Interval' must be at least 1");
     if (iopt.projectionIterations < 0)

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <string>
 #include <sstream>
@@ -32,8 +33,17 @@ struct ColumnErrors {
   double newtonMean = 0, krylovMean = 0;
 };
 
+// A value of summary.yaml by its key (the first line holding "key:"); NaN when absent.
+double summaryValue(const std::string& dir, const std::string& key) {
+  std::ifstream summary(dir + "/summary.yaml");
+  for (std::string line; std::getline(summary, line);)
+    if (line.find(key + ":") != std::string::npos) return std::stod(line.substr(line.find(key + ":") + key.size() + 1));
+  return std::nan("");
+}
+
 ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& model, Teuchos::FancyOStream& out,
-                       double gravity = 400.0) {
+                       double gravity = 400.0, const std::function<void(ParameterList&)>& adjust = {},
+                       std::string* outputDir = nullptr) {
   auto deck = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/column_implicit_cpgimp_neohookean.yaml");
   impm::validateDeck(*deck);
   const double height = 1.0, h = height / cellsY;
@@ -47,8 +57,10 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   deck->sublist("Monitors").sublist("top settlement").set("Y", height - 0.25 * h);
   deck->sublist("Monitors").sublist("base stress").set("Y", 0.25 * h);
   deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
+  if (adjust) adjust(*deck);
   auto comm = Tpetra::getDefaultComm();
-  const std::string dir = "test_output/column_" + shape + "_" + model.substr(0, 3) + "_" + std::to_string(cellsY);
+  const std::string dir = "test_output/column_" + shape + "_" + model.substr(0, 3) + "_" + std::to_string(cellsY) + (adjust ? "_adjusted" : "");
+  if (outputDir) *outputDir = dir;
   impm::Simulation sim(*deck, comm, dir);
   std::ostringstream log;
   const impm::RunResult r = sim.run(log);
@@ -85,12 +97,8 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   const double exactTop = exact.displacementY(height - 0.25 * h, 1.0);
   e.topRelative = std::abs(e.topSettlement - exactTop) / std::abs(exactTop);
   // The solver's figures, from summary.yaml.
-  std::ifstream summary(dir + "/summary.yaml");
-  for (std::string line; std::getline(summary, line);) {
-    auto valueOf = [&](const std::string& key) { return std::stod(line.substr(line.find(key) + key.size())); };
-    if (line.find("Newton Iterations Mean:") != std::string::npos) e.newtonMean = valueOf("Newton Iterations Mean:");
-    if (line.find("Krylov Iterations Per Newton Mean:") != std::string::npos) e.krylovMean = valueOf("Krylov Iterations Per Newton Mean:");
-  }
+  e.newtonMean = summaryValue(dir, "Newton Iterations Mean");
+  e.krylovMean = summaryValue(dir, "Krylov Iterations Per Newton Mean");
   out << std::setprecision(4) << shape << " " << model << " column, " << cellsY << " cells: sigma_yy relative L2 " << e.stressL2
       << ", top settlement " << e.topSettlement << " m (exact " << exactTop << ", error " << e.topRelative
       << "); JFNK: " << e.newtonMean << " Newton iterations per step, " << e.krylovMean << " GMRES per Newton\n";
@@ -143,6 +151,28 @@ TEUCHOS_UNIT_TEST(LargeDeformation, J2ColumnMatchesTheElastoplasticSolution) {
   TEST_COMPARE(fine.topRelative, <, 0.005);
   TEST_COMPARE(fine.newtonMean, <=, 6.0);
   TEST_COMPARE(fine.krylovMean, <=, 15.0);
+}
+
+TEUCHOS_UNIT_TEST(LargeDeformation, AdaptiveTimeStepRecoversFromFailedNewton) {
+  // The J2 column loaded in one deck step of 12 s with at most 5 Newton iterations per solve:
+  // the whole step fails, 6 s converges, the next 6 s fails and is cut to 3 s, which converges
+  // twice (Integrator/Implicit/Adaptive Time Step). The sub-steps end on the deck's step, with
+  // the elastoplastic solution.
+  std::string dir;
+  const ColumnErrors adaptive = runColumn(
+      "cpGIMP", 20, "J2 Plasticity", out, 400.0,
+      [](ParameterList& deck) {
+        deck.sublist("Integrator").set("Time Step", 12.0).set("Number of Steps", 1);
+        deck.sublist("Integrator").sublist("Implicit").set("Adaptive Time Step", true);
+        deck.sublist("Implicit Solver").set("Maximum Newton Iterations", 5);
+      },
+      &dir);
+  const double rejected = summaryValue(dir, "Rejected Sub-Steps"), subSteps = summaryValue(dir, "Sub-Steps");
+  out << "adaptive: " << subSteps << " sub-steps, " << rejected << " rejected, smallest " << summaryValue(dir, "Smallest Sub-Step")
+      << " s\n";
+  TEST_COMPARE(rejected, >=, 1.0);
+  TEST_COMPARE(subSteps, >=, 2.0);
+  TEST_COMPARE(adaptive.topRelative, <, 0.005);
 }
 
 TEUCHOS_UNIT_TEST(LargeDeformation, LinearColumnAtSmallStrain) {
