@@ -4,8 +4,10 @@
 // and a 3D bar of 40 x 5 x 5 cells with 5 x 5 x 5 (125,000 particles each) and prints
 // particle-steps per second at 1 and 2 OpenMP threads, and bytes per particle (particle views,
 // and the process's resident-memory growth).
+// Then the 2D MPM bar again with the finite-strain laws (neo-Hookean, J2 plasticity; plane
+// strain) against the linear one in the same run.
 // Targets (issue 2): >= 20 M particle-steps/s (MPM) and >= 10 M (GIMP) on 2 threads,
-// <= 300 bytes per particle.
+// <= 300 bytes per particle; (issue 9) neo-Hookean MPM at >= 60% of the linear throughput.
 //
 // Sample run:   build/apps/impm_bench_explicit            (spawns itself once per thread count)
 //               build/apps/impm_bench_explicit --child --kokkos-threads=2 --steps 200
@@ -33,7 +35,8 @@ long residentKiB() {
 }
 
 template <class Shape, int Dim>
-void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+             impm::MaterialModel model = impm::MaterialModel::LinearElastic) {
   using namespace impm;
   const long rss0 = residentKiB();
   StructuredGrid g;
@@ -44,9 +47,11 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
     body.xMax = 0.04; body.zMin = 0.0; body.zMax = 5e-3; body.particlesPerCellZ = 5;
   }
   GridDistribution dist(g, comm);
-  Materials mat(std::vector<MaterialParameters>{{200e9, 0.3, 7800.0}},
-                    Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStress);
+  const bool linear = model == MaterialModel::LinearElastic;
+  Materials mat(std::vector<MaterialParameters>{{200e9, 0.3, 7800.0, model, 250e6, 1e9}},
+                Dim == 3 ? PlaneCondition::Solid : linear ? PlaneCondition::PlaneStress : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
+  if (mat.anyHistory()) ps.allocateHistory();
   NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
   const LoadSpec load = LoadSpec::faceTraction("end", body, "x+", 1.0, 0.0);
   LoadSet loads({load}, dist, {-1}, 1);
@@ -61,9 +66,9 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   Kokkos::fence();
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double rate = double(ps.count) * steps / sec;
-  std::printf("%-5s %dD threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s  "
+  std::printf("%-5s %dD %-14s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s  "
               "view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
-              Shape::name, Dim, (int)ExecutionSpace::concurrency(), ps.count, steps, sec, rate / 1e6,
+              Shape::name, Dim, Materials::modelName(model).c_str(), (int)ExecutionSpace::concurrency(), ps.count, steps, sec, rate / 1e6,
               ParticleSet::bytesPerParticle(Dim), 1024.0 * (rss1 - rss0) / ps.count);
   std::fflush(stdout);
 }
@@ -96,5 +101,7 @@ int main(int argc, char** argv) {
   runCase<impm::UniformGimp, 2>(steps, comm);
   runCase<impm::LinearMpm, 3>(steps, comm);
   runCase<impm::UniformGimp, 3>(steps, comm);
+  runCase<impm::LinearMpm, 2>(steps, comm, impm::MaterialModel::NeoHookean);
+  runCase<impm::LinearMpm, 2>(steps, comm, impm::MaterialModel::J2Plasticity);
   return 0;
 }
