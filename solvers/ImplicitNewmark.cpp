@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -292,14 +293,22 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
 }
 
 template <class Shape, int Dim>
-Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const Vector& /*u*/) {
+Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const Vector& u) {
   PhaseTimer phase("stiffness assembly");
   // P = 4/dt^2 M + K, K over particle-cell pairs (exact over overlaps for GIMP). Small strain:
-  // P does not depend on u, so it is assembled once per step.
-  if (PCurrent_) return P_;
+  // P does not depend on u, so it is assembled once per step. Assembled Newton on finite strain:
+  // K is the tangent at the trial u (material and geometric), assembled at every Newton iterate.
+  const bool jacobianFree = solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free";
+  const bool trialTangent = !jacobianFree && mat_.anyFiniteStrain() && !seedGimpStiffness_;
+  if (PCurrent_ && !trialTangent) return P_;
+  if (trialTangent) {
+    // grad u of the trial displacement at each particle, for the stiffness kernel.
+    scatterUnknowns(u);
+    auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DisplacementColumns<Dim>::UX);
+  }
   // Jacobian-free: P only builds the preconditioner, so it is reassembled (and refactored) every
   // Preconditioner Refresh Interval steps; the residual carries the current physics.
-  const bool jacobianFree = solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free";
   const int interval = std::max(1, opt_.preconditionerRefreshInterval);
   if (jacobianFree && !P_.is_null() && ++stepsSinceAssembly_ < interval) {
     PCurrent_ = true;
@@ -413,7 +422,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
     }
   }
   if (!seedGimpStiffness_) {
-    Kb = stencilStiffness<Exec, Shape, Dim>(g, ps_, mat_.law(), consistentMassInP ? massFactor : 0.0);
+    Kb = stencilStiffness<Exec, Shape, Dim>(g, ps_, mat_.law(), consistentMassInP ? massFactor : 0.0, trialTangent);
   }
   auto O = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.origin);
   auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.K);
@@ -534,6 +543,10 @@ bool ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt) {
   finishStep(u);
   secondsFinish_ += std::chrono::duration<double>(clock::now() - t2).count();
   newtonPerStep_.push_back(result.newtonIterations);
+  if (result.newtonIterations > hardestStepIterations_) {
+    hardestStepIterations_ = result.newtonIterations;
+    hardestStepNorms_ = result.residualNorms;
+  }
   krylovPerNewton_.insert(krylovPerNewton_.end(), result.krylovIterations.begin(), result.krylovIterations.end());
   return true;
 }
@@ -606,6 +619,14 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   s.set("Krylov Iterations Per Newton Mean", k.empty() ? 0.0 : std::accumulate(k.begin(), k.end(), 0.0) / k.size());
   s.set("Krylov Iterations Per Newton Max", k.empty() ? 0 : *std::max_element(k.begin(), k.end()));
   s.set("Step Halvings", halvings_);
+  {
+    // ||R||_2 at each Newton iterate of the step that took the most iterations: the convergence
+    // rate (quadratic for Assembled Newton with the exact tangent; linear-ish for JFNK's inexact solves).
+    std::ostringstream norms;
+    norms << std::setprecision(3);
+    for (size_t k = 0; k < hardestStepNorms_.size(); ++k) norms << (k ? " " : "") << hardestStepNorms_[k];
+    s.set("Residual Norms Of Hardest Step", norms.str());
+  }
   if (opt_.adaptiveTimeStep) {
     Teuchos::ParameterList& a = s.sublist("Adaptive Time Step");
     a.set("Sub-Steps", (int)subSteps_);

@@ -147,6 +147,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   std::vector<int> newtonPerStep_, krylovPerNewton_;
   int halvings_ = 0;
+  int hardestStepIterations_ = -1;
+  std::vector<double> hardestStepNorms_;
   // Adaptive time step: the sub-step carried from step to step (0: not started), the counts.
   double subStep_ = 0.0, smallestSubStep_ = 0.0, largestSubStep_ = 0.0;
   long long subSteps_ = 0, rejectedSubSteps_ = 0;

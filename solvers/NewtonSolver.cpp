@@ -124,13 +124,23 @@ int positiveInt(const ParameterList& pl, const std::string& key) {
 }
 
 // Krylov iterations of each Newton step, from NOX's solver statistics.
+// Also the residual norm ||R||_2 at the initial guess and after each Newton iteration (the
+// convergence rate in tests).
 class KrylovObserver : public NOX::Observer {
  public:
   std::vector<int> iterations;
+  std::vector<double> residualNorms;
+  void runPreSolve(const NOX::Solver::Generic& solver) override {
+    const NOX::Abstract::Group& g = solver.getSolutionGroup();
+    if (g.isF()) residualNorms.push_back(g.getNormF());
+  }
   void runPostIterate(const NOX::Solver::Generic& solver) override {
     // Also called after a converged initial guess or a failed direction, with no new linear solve.
-    if (solver.getNumIterations() > static_cast<int>(iterations.size()))
+    if (solver.getNumIterations() > static_cast<int>(iterations.size())) {
       iterations.push_back(solver.getSolverStatistics()->linearSolve.lastLinearSolve_NumIterations);
+      const NOX::Abstract::Group& g = solver.getSolutionGroup();
+      if (g.isF()) residualNorms.push_back(g.getNormF());
+    }
   }
 };
 
@@ -414,6 +424,7 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
     NoxSetUp& s = *nox_;
     s.me->beginSolve();
     s.observer->iterations.clear();
+    s.observer->residualNorms.clear();
     RCP<Thyra::VectorBase<double>> x0 = Thyra::createMember(s.me->get_x_space());
     Tpetra::deep_copy(*Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getTpetraVector(x0), u);
     s.solver->reset(NOX::Thyra::Vector(x0));
@@ -475,6 +486,7 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
   result.converged = status == NOX::StatusTest::Converged;
   result.newtonIterations = solver->getNumIterations();
   result.krylovIterations = s.observer->iterations;
+  result.residualNorms = s.observer->residualNorms;
   result.finalResidualNorm = soln.isF() ? soln.getNormF() : -1.0;
   result.displacementNorm = s.displacement->ratio();
   result.energyNorm = s.energy->ratio();

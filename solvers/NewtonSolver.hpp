@@ -44,6 +44,8 @@ struct NewtonResult {
   // Per Newton iteration: GMRES iterations, 0 for a direct solve (1 for the direct solve on more than
   // one rank, done as one GMRES iteration preconditioned by the exact inverse).
   std::vector<int> krylovIterations;
+  // ||R||_2 at the initial guess and after each Newton iteration.
+  std::vector<double> residualNorms;
   // Final values of the three criteria: ||R(u)||_2 (absolute, unscaled), ||du_k|| / ||u_k|| and
   // |du_k . R_k| / |du_0 . R_0| (both -1 when no Newton step was taken).
   double finalResidualNorm = 0, displacementNorm = 0, energyNorm = 0;

@@ -17,6 +17,7 @@
 
 #include "core/ParticleCellPairs.hpp"
 #include "core/ParticleStencil.hpp"
+#include "core/SmallMatrix.hpp"
 
 namespace impm {
 
@@ -131,9 +132,14 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
 // inside the grid. With massFactor c > 0 the block also gets c times the particle's consistent
 // mass, c m_p S_ap S_bp per component. Block node (a, b[, c]) is local node
 // a + bn_x (b + bn_y c); its dofs are Dim (node) + component.
+//
+// With atTrialState (Assembled Newton on finite strain), each finite-strain particle's block is
+// the exact derivative of its deformed-domain internal force (InternalForce.hpp) at the trial
+// displacement whose gradient G is in ps.gradient: with dF = I + G, the gradients on the deformed
+// domain dF^-T grad S, its volume det(dF) V, and the law's stress and tangent at F = dF F_n.
 template <class ExecSpace, class Shape, int Dim, class Law>
 BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const Law& law,
-                               double massFactor = 0.0) {
+                               double massFactor = 0.0, bool atTrialState = false) {
   constexpr int bn = Shape::max_nodes_1d;
   constexpr int maxNodes = Dim == 2 ? bn * bn : bn * bn * bn;
   BlockMatrices out;
@@ -148,6 +154,8 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
   auto O = out.origin; auto K = out.K;
   auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto V0 = ps.volume0; auto m = ps.mass; auto matId = ps.material;
   auto sigma = ps.stress;
+  const FixedParticleViews<Dim> fixed(ps);
+  auto Fp = fixed.F; auto Gp = fixed.gradient; auto hist = ps.history;
   const int b0 = bnd[0], b1 = bnd[1], b2 = bnd[2];
   Kokkos::parallel_for(
       "stencil_stiffness", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
@@ -174,19 +182,49 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
         for (int r = 0; r < nd; ++r)
           for (int c = 0; c < nd; ++c) K(p, r, c) = 0.0;
         double D[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt];
+        using SL = StressLayout<Dim>;
         const int mat = matId(p);
-        law.template tangent<Dim>(mat, V(p) / V0(p), D);
-        detail::addBtDB<Dim>(K, p, nn, grad, V(p), D);
-        if (law.finiteStrain(mat)) {
+        const bool finite = law.finiteStrain(mat);
+        double Vp = V(p), s[SL::count];
+        for (int c = 0; c < SL::count; ++c) s[c] = sigma(p, c);
+        if (finite && atTrialState) {
+          double G[Dim][Dim], dF[Dim][Dim], inv[Dim][Dim], F[Dim][Dim], Fn[Dim][Dim];
+          for (int i = 0; i < Dim; ++i)
+            for (int j = 0; j < Dim; ++j) {
+              G[i][j] = Gp(p, i, j);
+              dF[i][j] = (i == j ? 1.0 : 0.0) + G[i][j];
+              Fn[i][j] = Fp(p, i, j);
+            }
+          multiply<Dim>(dF, Fn, F);
+          const double Jd = determinant<Dim>(dF);
+          inverse<Dim>(dF, Jd, inv);
+          double h[ParticleSet::kHistoryCount];
+          const bool withHistory = law.hasHistory(mat);
+          if (withHistory)
+            for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
+          law.template stress<Dim>(mat, s, G, F, withHistory ? h : nullptr, s);
+          Vp *= Jd;
+          for (int n = 0; n < nn; ++n) {  // grad S on the deformed domain: dF^-T grad S
+            double gn[Dim];
+            for (int j = 0; j < Dim; ++j) {
+              double v = 0;
+              for (int k = 0; k < Dim; ++k) v += inv[k][j] * grad[n][k];
+              gn[j] = v;
+            }
+            for (int j = 0; j < Dim; ++j) grad[n][j] = gn[j];
+          }
+        }
+        law.template tangent<Dim>(mat, Vp / V0(p), D);
+        detail::addBtDB<Dim>(K, p, nn, grad, Vp, D);
+        if (finite) {
           // The geometric (initial-stress) term of the current-configuration tangent:
           // V grad S_a . sigma . grad S_b on each component.
-          using SL = StressLayout<Dim>;
           for (int a = 0; a < nn; ++a)
             for (int b = 0; b < nn; ++b) {
               double k = 0;
               for (int i = 0; i < Dim; ++i)
-                for (int j = 0; j < Dim; ++j) k += grad[a][i] * sigma(p, SL::index(i, j)) * grad[b][j];
-              for (int c = 0; c < Dim; ++c) K(p, Dim * a + c, Dim * b + c) += V(p) * k;
+                for (int j = 0; j < Dim; ++j) k += grad[a][i] * s[SL::index(i, j)] * grad[b][j];
+              for (int c = 0; c < Dim; ++c) K(p, Dim * a + c, Dim * b + c) += Vp * k;
             }
         }
         if (massFactor > 0.0)
