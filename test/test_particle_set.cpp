@@ -58,4 +58,31 @@ TEUCHOS_UNIT_TEST(ParticleSet, PackUnpackRoundTrip) {
   TEST_EQUALITY(id2(n - 1), id(n - 1));
 }
 
+// A set with history (J2 plasticity): the history travels with its particle, also into a set
+// that was empty when it allocated its history (a rank without particles receiving some).
+TEUCHOS_UNIT_TEST(ParticleSet, HistoryTravelsWithItsParticle) {
+  StructuredGrid g;
+  g.nx = 6; g.ny = 3; g.hx = 0.5; g.hy = 0.5;
+  GridDistribution dist(g, Teuchos::rcp(new Teuchos::SerialComm<int>()));
+  ParticleSet ps = createParticles(RectangularBody{0.5, 2.5, 0.0, 1.5, 2, 2, 0.1}, Materials{1e6, 0.25, 1000.0}, dist);
+  ps.allocateHistory();
+  auto h = ps.history;
+  Kokkos::parallel_for("fill_history", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h(p, i) = 10.0 * p + i;
+  });
+  const int n = 3;
+  ParticleSet::Ids picked("picked", n);
+  Kokkos::parallel_for("pick", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int k) { picked(k) = 4 + k; });
+  ParticleSet::Packed buffer("buffer", n, ps.packedWidth());
+  ps.pack(picked, buffer);
+  ParticleSet empty(0);
+  empty.allocateHistory();
+  TEST_EQUALITY(empty.packedWidth(), ps.packedWidth());
+  empty.unpackAppend(buffer);
+  auto hh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), empty.history);
+  TEST_EQUALITY(empty.count, n);
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) TEST_EQUALITY(hh(k, i), 10.0 * (4 + k) + i);
+}
+
 }  // namespace
