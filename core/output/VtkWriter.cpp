@@ -17,6 +17,8 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
   auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.stress);
   auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.mass);
   auto V = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.volume);
+  auto V0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.volume0);
+  auto hist = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.history);  // J2 only
   const int n = ps.count, dim = ps.dim, ns = ps.stressCount();
   const std::string tmp = path + ".tmp";
   {
@@ -60,6 +62,14 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
     for (int p = 0; p < n; ++p) f << m(p) << '\n';
     f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"volume\" format=\"ascii\">\n";
     for (int p = 0; p < n; ++p) f << V(p) << '\n';
+    // det F = V / V0 (1 for the FE reference's fixed Gauss points), and the J2 equivalent
+    // plastic strain when a material has history.
+    f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"det_F\" format=\"ascii\">\n";
+    for (int p = 0; p < n; ++p) f << (fixed ? 1.0 : V(p) / V0(p)) << '\n';
+    if (ps.hasHistory()) {
+      f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"plastic_strain\" format=\"ascii\">\n";
+      for (int p = 0; p < n; ++p) f << hist(p, ParticleSet::kHistoryCount - 1) << '\n';
+    }
     f << "</DataArray>\n</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write " + path);
