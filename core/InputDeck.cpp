@@ -277,6 +277,12 @@ RCP<const ParameterList> validParameters() {
     im.set("Preconditioner Refresh Interval", 1,
            "steps between numeric refactorisations of the Ifpack2 preconditioner (1: every step); its factors "
            "of a slightly older P remain a good preconditioner while the particles move little");
+    im.set("Preconditioner Refresh GMRES Threshold", 0,
+           "also rebuild the preconditioner at the step after one whose mean GMRES iterations per Newton "
+           "iteration exceeded this (0: off)");
+    im.set("Preconditioner At Every Newton Iteration", false,
+           "Jacobian-Free with finite-strain materials: rebuild the preconditioner at every Newton iterate from the "
+           "tangent at the trial state (material and geometric), instead of once per step");
     choice(im, "Mass Matrix", "Lumped", {"Lumped", "Consistent"},
            "Lumped: Guilkey & Weiss; Consistent: R uses M_C u and particles take their own Newmark update, "
            "which conserves the particles' energy (P then holds the consistent mass too, except with GIMP Stiffness = Integrated)");

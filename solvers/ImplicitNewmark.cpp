@@ -299,7 +299,8 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
   // P does not depend on u, so it is assembled once per step. Assembled Newton on finite strain:
   // K is the tangent at the trial u (material and geometric), assembled at every Newton iterate.
   const bool jacobianFree = solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free";
-  const bool trialTangent = !jacobianFree && mat_.anyFiniteStrain() && !seedGimpStiffness_;
+  const bool trialTangent =
+      mat_.anyFiniteStrain() && !seedGimpStiffness_ && (!jacobianFree || opt_.preconditionerEveryNewton);
   if (PCurrent_ && !trialTangent) return P_;
   if (trialTangent) {
     // grad u of the trial displacement at each particle, for the stiffness kernel.
@@ -308,13 +309,16 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
     gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DisplacementColumns<Dim>::UX);
   }
   // Jacobian-free: P only builds the preconditioner, so it is reassembled (and refactored) every
-  // Preconditioner Refresh Interval steps; the residual carries the current physics.
+  // Preconditioner Refresh Interval steps, or at the step after one whose GMRES iterations per
+  // Newton exceeded the threshold, or at every Newton iterate (finite strain, on request); the
+  // residual carries the current physics.
   const int interval = std::max(1, opt_.preconditionerRefreshInterval);
-  if (jacobianFree && !P_.is_null() && ++stepsSinceAssembly_ < interval) {
+  if (jacobianFree && !trialTangent && !P_.is_null() && !refreshRequested_ && ++stepsSinceAssembly_ < interval) {
     PCurrent_ = true;
     return P_;
   }
   stepsSinceAssembly_ = 0;
+  refreshRequested_ = false;
   const StructuredGrid& g = dist_.grid();
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
   const auto ghostMap = dist_.ghostedNodeMap();
@@ -543,6 +547,11 @@ bool ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt) {
   finishStep(u);
   secondsFinish_ += std::chrono::duration<double>(clock::now() - t2).count();
   newtonPerStep_.push_back(result.newtonIterations);
+  if (opt_.preconditionerRefreshKrylov > 0 && !result.krylovIterations.empty()) {
+    const double mean = std::accumulate(result.krylovIterations.begin(), result.krylovIterations.end(), 0.0) /
+                        result.krylovIterations.size();
+    if (mean > opt_.preconditionerRefreshKrylov) refreshRequested_ = true;
+  }
   if (result.newtonIterations > hardestStepIterations_) {
     hardestStepIterations_ = result.newtonIterations;
     hardestStepNorms_ = result.residualNorms;
@@ -619,6 +628,7 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   s.set("Krylov Iterations Per Newton Mean", k.empty() ? 0.0 : std::accumulate(k.begin(), k.end(), 0.0) / k.size());
   s.set("Krylov Iterations Per Newton Max", k.empty() ? 0 : *std::max_element(k.begin(), k.end()));
   s.set("Step Halvings", halvings_);
+  s.set("Stiffness Assemblies", (int)jacobianVersion_);
   {
     // ||R||_2 at each Newton iterate of the step that took the most iterations: the convergence
     // rate (quadratic for Assembled Newton with the exact tangent; linear-ish for JFNK's inexact solves).

@@ -35,6 +35,10 @@ struct ImplicitOptions {
   // Steps between numeric refactorisations of the preconditioner (its factors of an older P
   // stay a good preconditioner while particles move little); 1 = every step.
   int preconditionerRefreshInterval = 1;
+  // Also rebuild it at the step after one whose mean GMRES iterations per Newton exceeded this
+  // (0: off); or at every Newton iterate from the trial-state tangent (finite strain).
+  int preconditionerRefreshKrylov = 0;
+  bool preconditionerEveryNewton = false;
   // Consistent mass: R uses M_C u = S^T M_p S u (one particle round trip per residual) and the
   // particles take the Newmark update themselves (a_p,new = 4/dt^2 u_p - 4/dt v_p - a_p), so
   // that particle kinetic plus strain energy is what the trapezoidal rule conserves. P holds
@@ -136,6 +140,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   long jacobianVersion_ = 0;       // bumped at every (re)assembly
   long preconditionerVersion_ = 0; // bumped when the preconditioner must be refactored
   int stepsSinceAssembly_ = 0;
+  bool refreshRequested_ = false;
   // Offsets into overlapP_'s local values: per ghost-region block and local dof pair (r, c), and
   // per owned free dof for the mass diagonal.
   std::vector<size_t> blockOffsets_, diagOffsets_;

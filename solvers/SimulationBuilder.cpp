@@ -653,6 +653,11 @@ void Simulation::buildIntegrator() {
     iopt.consistentInitialAcceleration = im.get<bool>("Consistent Initial Acceleration");
     iopt.projectionIterations = im.get<int>("Consistent Projection Iterations");
     iopt.preconditionerRefreshInterval = im.get<int>("Preconditioner Refresh Interval");
+    iopt.preconditionerRefreshKrylov = im.get<int>("Preconditioner Refresh GMRES Threshold");
+    iopt.preconditionerEveryNewton = im.get<bool>("Preconditioner At Every Newton Iteration");
+    if (iopt.preconditionerRefreshKrylov < 0)
+      throw DeckError("'Integrator/Implicit/Preconditioner Refresh GMRES Threshold' must not be negative (0: off), got " +
+                      std::to_string(iopt.preconditionerRefreshKrylov));
     iopt.consistentMass = im.get<std::string>("Mass Matrix") == "Consistent";
     iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
     iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
