@@ -145,7 +145,9 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
 
 template class ExplicitStepper<LinearMpm, 2>;
 template class ExplicitStepper<UniformGimp, 2>;
+template class ExplicitStepper<QuadraticBSpline, 2>;
 template class ExplicitStepper<LinearMpm, 3>;
 template class ExplicitStepper<UniformGimp, 3>;
+template class ExplicitStepper<QuadraticBSpline, 3>;
 
 }  // namespace impm
