@@ -1,6 +1,6 @@
 // The nodes a particle talks to, with tensor-product weights and gradient weights in Dim = 2
-// or 3 dimensions, computed from a 1D shape-function trait (LinearMpm, UniformGimp or
-// QuadraticLagrange).
+// or 3 dimensions, computed from a 1D shape-function trait (LinearMpm, UniformGimp,
+// QuadraticLagrange or QuadraticBSpline).
 #pragma once
 
 #include "core/ShapeFunctions.hpp"
@@ -127,8 +127,8 @@ struct ParticleStencil {
     }
     for (int a = 0; a < count; ++a) {
       const double r = x - (origin + (first + a) * h);
-      w[a] = Shape::value(r, h, l, first + a);
-      gr[a] = Shape::gradient(r, h, l, first + a);
+      w[a] = Shape::value(r, h, l, first + a, ncells);
+      gr[a] = Shape::gradient(r, h, l, first + a, ncells);
     }
   }
 };

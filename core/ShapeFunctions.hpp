@@ -1,8 +1,8 @@
 // Grid shape functions as small traits: each gives the 1D weight and gradient weight of a
 // node for a particle, and the range of nodes with non-zero weight. 2D weights are tensor
 // products (see ParticleStencil). All traits are usable by the same kernels. `node` is the
-// node's index along the direction (only the quadratic element needs it: its corner and
-// mid-side functions differ).
+// node's index along the direction and `cells` the grid's cell count along it (only the
+// quadratic element and the B-spline's edge functions need them).
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -22,11 +22,11 @@ struct LinearMpm {
   static constexpr bool fixed_count = true;  // always 2 nodes per direction inside the grid
   static constexpr const char* name = "MPM";
 
-  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int /*node*/ = 0) {
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int /*node*/ = 0, int /*cells*/ = 0) {
     const double a = r < 0 ? -r : r;
     return a < h ? 1.0 - a / h : 0.0;
   }
-  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int /*node*/ = 0) {
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int /*node*/ = 0, int /*cells*/ = 0) {
     const double a = r < 0 ? -r : r;
     if (a >= h) return 0.0;
     return r < 0 ? 1.0 / h : -1.0 / h;
@@ -46,7 +46,7 @@ struct UniformGimp {
   static constexpr bool fixed_count = false;  // 2 or 3 nodes per direction
   static constexpr const char* name = "GIMP";
 
-  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double l, int /*node*/ = 0) {
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double l, int /*node*/ = 0, int /*cells*/ = 0) {
     const double a = r < 0 ? -r : r;
     if (a < l) return 1.0 - (r * r + l * l) / (2.0 * h * l);
     if (a < h - l) return 1.0 - a / h;
@@ -56,7 +56,7 @@ struct UniformGimp {
     }
     return 0.0;
   }
-  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double l, int /*node*/ = 0) {
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double l, int /*node*/ = 0, int /*cells*/ = 0) {
     const double a = r < 0 ? -r : r;
     const double sign = r < 0 ? -1.0 : 1.0;
     if (a < l) return -r / (h * l);
@@ -103,12 +103,12 @@ struct QuadraticLagrange {
   static constexpr bool fixed_count = true;  // always the element's 3 nodes per direction
   static constexpr const char* name = "FE Q9";
 
-  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int node) {
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int node, int /*cells*/ = 0) {
     const double s = (r < 0 ? -r : r) / h;
     if (node % 2 == 0) return s < 2.0 ? (1.0 - s) * (1.0 - 0.5 * s) : 0.0;
     return s < 1.0 ? 1.0 - s * s : 0.0;
   }
-  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int node) {
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int node, int /*cells*/ = 0) {
     const double s = (r < 0 ? -r : r) / h;
     const double sign = r < 0 ? -1.0 : 1.0;
     if (node % 2 == 0) return s < 2.0 ? sign * (s - 1.5) / h : 0.0;
@@ -117,6 +117,56 @@ struct QuadraticLagrange {
   // The element containing xi (in cells): its first node is even.
   KOKKOS_INLINE_FUNCTION static void range(double xi, double /*l_over_h*/, int& first, int& count) {
     first = 2 * floorToInt(0.5 * xi);
+    count = 3;
+  }
+};
+
+// Quadratic B-spline MPM (Steffen, Kirby & Berzins 2008, IJNME 76): the particle is a point and
+// node i's function is the uniform C1 quadratic B-spline with knots at the cell midpoints,
+// support |r| < 1.5 h: with s = |r| / h, 3/4 - s^2 for s < 1/2, (3/2 - s)^2 / 2 for s < 3/2.
+// Always 3 nodes per direction: the node nearest the particle and its two neighbours.
+// Grid edge (the paper's modified boundary splines): node -1 (or n + 1) is missing, so on the
+// edge half cells [0, h/2] and [(n - 1/2) h, n h] the edge node and its neighbour take the
+// linear tent 1 - s instead, which joins their B-spline pieces C1 at h/2 from the edge. This is
+// the spline space of the open knot vector {0, 0, 0, 1/2, 3/2, ...} (in cells) cut down to one
+// function per grid node, the ones linear on the edge half cells.
+// What holds, on the whole grid [0, n h] including the edge cells: sum_i S_i = 1,
+// sum_i dS_i = 0, sum_i S_i x_i = x_p and sum_i dS_i x_i = 1; every S_i is C1 (no jump in the
+// gradient when a particle crosses a cell line). Quadratics are not reproduced (inside,
+// sum_i S_i x_i^2 = x_p^2 + h^2/4). Needs at least 2 cells per direction (3 nodes).
+struct QuadraticBSpline {
+  static constexpr int max_nodes_1d = 3;
+  static constexpr bool fixed_count = true;
+  static constexpr const char* name = "B-Spline Quadratic";
+
+  // On an edge half cell (r = x_p - x_node), the edge node's and its neighbour's tent slope in
+  // units of 1/h: -1 or +1 (one-sided, into the grid, also on the edge line itself); 0 elsewhere.
+  KOKKOS_INLINE_FUNCTION static int edgeTentSlope(double r, double h, int node, int cells) {
+    if (node == 0 && r < 0.5 * h) return -1;
+    if (node == 1 && r < -0.5 * h) return 1;
+    if (node == cells && r > -0.5 * h) return 1;
+    if (node == cells - 1 && r > 0.5 * h) return -1;
+    return 0;
+  }
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int node, int cells) {
+    const double s = (r < 0 ? -r : r) / h;
+    if (edgeTentSlope(r, h, node, cells) != 0) return s < 1.0 ? 1.0 - s : 0.0;
+    if (s < 0.5) return 0.75 - s * s;
+    if (s < 1.5) return 0.5 * (1.5 - s) * (1.5 - s);
+    return 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int node, int cells) {
+    const double s = (r < 0 ? -r : r) / h;
+    const double sign = r < 0 ? -1.0 : 1.0;
+    const int tent = edgeTentSlope(r, h, node, cells);
+    if (tent != 0) return tent / h;
+    if (s < 0.5) return -2.0 * r / (h * h);
+    if (s < 1.5) return -sign * (1.5 - s) / h;
+    return 0.0;
+  }
+  // The node nearest xi and its two neighbours (ParticleStencil keeps them inside the grid).
+  KOKKOS_INLINE_FUNCTION static void range(double xi, double /*l_over_h*/, int& first, int& count) {
+    first = floorToInt(xi + 0.5) - 1;
     count = 3;
   }
 };

@@ -146,9 +146,11 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
 
 template class ExplicitStepper<LinearMpm, 2>;
 template class ExplicitStepper<UniformGimp, 2>;
+template class ExplicitStepper<QuadraticBSpline, 2>;
 template class ExplicitStepper<LinearMpm, 3>;
 template class ExplicitStepper<UniformGimp, 3>;
 template class ExplicitStepper<ConvectedGimp, 2>;
 template class ExplicitStepper<ConvectedGimp, 3>;
+template class ExplicitStepper<QuadraticBSpline, 3>;
 
 }  // namespace impm

@@ -655,10 +655,12 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
 template class ImplicitNewmark<LinearMpm, 2>;
 template class ImplicitNewmark<UniformGimp, 2>;
 template class ImplicitNewmark<QuadraticLagrange, 2>;
+template class ImplicitNewmark<QuadraticBSpline, 2>;
 template class ImplicitNewmark<LinearMpm, 3>;
 template class ImplicitNewmark<UniformGimp, 3>;
 template class ImplicitNewmark<ConvectedGimp, 2>;
 template class ImplicitNewmark<ConvectedGimp, 3>;
 template class ImplicitNewmark<QuadraticLagrange, 3>;
+template class ImplicitNewmark<QuadraticBSpline, 3>;
 
 }  // namespace impm

@@ -267,6 +267,10 @@ void Simulation::buildMaterialsAndBodies() {
   if (params.empty()) throw DeckError("'Materials' is empty: a deck with Bodies needs at least one material");
   materials_ = Materials(params, plane);
 
+  if (shape_ == "B-Spline Quadratic" && (grid_.nx < 2 || grid_.ny < 2 || (grid_.dim == 3 && grid_.nz < 2)))
+    throw DeckError("'Method/Shape Function' = B-Spline Quadratic needs at least 2 cells per direction (a stencil spans 3 "
+                    "nodes), got " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
+                    (grid_.dim == 3 ? " x " + std::to_string(grid_.nz) : std::string()) + " cells");
   if (shape_ == "FE Q9" && grid_.dim == 3 && grid_.nz % 2)
     throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " + std::to_string(grid_.nz));
   if (shape_ == "FE Q9" && (grid_.nx % 2 || grid_.ny % 2))
@@ -423,9 +427,9 @@ void Simulation::checkProblemSize(bool implicit) const {
   const int ranks = comm_->getSize();
   // The implicit figures were measured in 2D; in 3D a node's matrix row couples dim / 2 times
   // more components with (reach)^3 / (reach)^2 more nodes (reach 3 cells for MPM and FE Q4, 5
-  // for GIMP and FE Q9), and each particle's dense stiffness block holds (dim x nodes)^2
-  // values (24^2 for MPM, 81^2 for GIMP and Hex27; the 2D constants include their blocks).
-  const bool wide = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "FE Q9";
+  // for GIMP, cpGIMP, B-splines and FE Q9), and each particle's dense stiffness block holds (dim x nodes)^2
+  // values (24^2 for MPM, 81^2 for GIMP, B-splines and Hex27; the 2D constants include their blocks).
+  const bool wide = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "B-Spline Quadratic" || shape_ == "FE Q9";
   const double reach = wide ? 5.0 : 3.0, blockNodes = wide ? 3.0 : 2.0;
   const double activeScale = solid ? 1.5 * 1.5 * reach : 1.0;
   const double blockBytesPerParticle = implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
@@ -453,9 +457,9 @@ void Simulation::checkNodeReached(const std::string& key, const Point& point) co
   double node[3] = {0, 0, 0};
   for (int d = 0; d < grid_.dim; ++d)
     node[d] = grid_.origin(d) + grid_.spacing(d) * std::lround((point[d] - grid_.origin(d)) / grid_.spacing(d));
-  // A node's shape function reaches one cell (FE Q9: one element of two cells), plus the
-  // particle's half size with GIMP.
-  const double span = shape_ == "FE Q9" ? 2.0 : 1.0;
+  // A node's shape function reaches one cell (FE Q9: one element of two cells; quadratic
+  // B-splines: 1.5 cells), plus the particle's half size with GIMP.
+  const double span = shape_ == "FE Q9" ? 2.0 : shape_ == "B-Spline Quadratic" ? 1.5 : 1.0;
   const double reach[3] = {span * grid_.hx, span * grid_.hy, span * grid_.hz};
   const double domain = shape_ == "GIMP" || shape_ == "cpGIMP" ? 1.0 : 0.0;
   auto px = particles_.x;
@@ -633,7 +637,8 @@ void Simulation::buildIntegrator() {
                 << " is above 1, beyond the measured stable limit of the particle transfers; the run may diverge\n";
   }
 
-  const bool gimp = shape_ == "GIMP", cpgimp = shape_ == "cpGIMP", fe = shape_ == "FE Q4" || shape_ == "FE Q9";
+  const bool gimp = shape_ == "GIMP", cpgimp = shape_ == "cpGIMP", bspline = shape_ == "B-Spline Quadratic",
+             fe = shape_ == "FE Q4" || shape_ == "FE Q9";
   if (fe && integratorType != "Implicit")
     throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
   // Solver options are checked whatever the integrator, so that a bad one never waits for a
@@ -678,6 +683,8 @@ void Simulation::buildIntegrator() {
       constexpr int Dim = decltype(dimension)::value;
       if (gimp) return std::make_unique<ImplicitNewmark<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (cpgimp) return std::make_unique<ImplicitNewmark<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      if (bspline)
+        return std::make_unique<ImplicitNewmark<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (shape_ == "FE Q9")
         return std::make_unique<ImplicitNewmark<QuadraticLagrange, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       return std::make_unique<ImplicitNewmark<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
@@ -692,6 +699,8 @@ void Simulation::buildIntegrator() {
       constexpr int Dim = decltype(dimension)::value;
       if (gimp) return std::make_unique<ExplicitStepper<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       if (cpgimp) return std::make_unique<ExplicitStepper<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+      if (bspline)
+        return std::make_unique<ExplicitStepper<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       return std::make_unique<ExplicitStepper<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
     };
     integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});

@@ -107,6 +107,18 @@ TEUCHOS_UNIT_TEST(Implicit, GimpConsistentStiffnessIsTheJacobian) {
   TEST_COMPARE(jacobianMismatch<UniformGimp>(2, integrated, Placement::Lattice, out), >, 1e-3);
 }
 
+// Quadratic B-splines: 3 x 3 node blocks at stride 1 (as GIMP's) hold the exact Jacobian, with
+// the lumped mass and with the consistent mass in the blocks, on a bar that fills its grid (the
+// edge splines' cells are loaded too).
+TEUCHOS_UNIT_TEST(Implicit, BSplineAssembledIsTheJacobian) {
+  ImplicitOptions lumped;
+  TEST_COMPARE(jacobianMismatch<QuadraticBSpline>(2, lumped, Placement::Lattice, out), <, 1e-5);
+  TEST_COMPARE(jacobianMismatch<QuadraticBSpline>(4, lumped, Placement::Lattice, out), <, 1e-5);
+  ImplicitOptions consistent;
+  consistent.consistentMass = true;
+  TEST_COMPARE(jacobianMismatch<QuadraticBSpline>(2, consistent, Placement::Lattice, out), <, 1e-5);
+}
+
 // FE Q9 with the consistent mass: P holds stiffness and consistent mass over the elements.
 TEUCHOS_UNIT_TEST(Implicit, FeQ9AssembledIsTheJacobian) {
   ImplicitOptions fe;

@@ -1,5 +1,6 @@
 // Shape-function traits: partition of unity, zero gradient sum, and the uGIMP weights and
-// gradient weights against numerical quadrature of the particle characteristic function.
+// gradient weights against numerical quadrature of the particle characteristic function;
+// quadratic B-splines up to the grid edge (partition of unity, linear completeness, C1).
 #include <Teuchos_UnitTestHarness.hpp>
 
 #include <algorithm>
@@ -13,6 +14,7 @@ namespace {
 
 using impm::LinearMpm;
 using impm::ParticleStencil;
+using impm::QuadraticBSpline;
 using impm::StructuredGrid;
 using impm::UniformGimp;
 
@@ -53,9 +55,11 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, UniformGimpPartitionOfUnity) { checkPartitionO
 // The same in 3D through forEachNode/forEachOffset (the kernels' loops): sum S = 1, sum grad S = 0,
 // and linear completeness in every direction, sum S x_i = x_p and sum grad_j S x_i,k = delta_jk
 // (a linear field and its gradient are reproduced exactly). For the quadratic element (Hex27)
-// also sum S x_i^2 = x_p^2 (quadratic completeness).
+// also sum S x_i^2 = x_p^2 (quadratic completeness). wholeGrid: positions over the whole grid,
+// edge cells included, a fifth of them on the edge lines or half a cell from them (B-splines);
+// otherwise one cell away from the edges.
 template <class Shape>
-void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success) {
+void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success, bool wholeGrid = false) {
   StructuredGrid g = testGrid();
   g.dim = 3; g.z0 = 0.2; g.hz = 0.4; g.nz = 8;
   if (std::is_same<Shape, impm::QuadraticLagrange>::value) g.ny = 10;  // even cell counts
@@ -66,8 +70,14 @@ void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success) {
   for (int k = 0; k < 1000; ++k) {
     double xc[3], l[3];
     for (int d = 0; d < 3; ++d) {
-      std::uniform_real_distribution<double> u(g.origin(d) + g.spacing(d), g.origin(d) + (g.cells(d) - 1) * g.spacing(d));
+      const double margin = wholeGrid ? 0.0 : 1.0;
+      std::uniform_real_distribution<double> u(g.origin(d) + margin * g.spacing(d),
+                                               g.origin(d) + (g.cells(d) - margin) * g.spacing(d));
       xc[d] = u(rng);
+      if (wholeGrid && k % 5 == 0) {
+        const double offset[6] = {0.0, 0.25, 0.5, g.cells(d) - 0.5, g.cells(d) - 0.25, 1.0 * g.cells(d)};
+        xc[d] = g.origin(d) + offset[(k / 5 + d) % 6] * g.spacing(d);
+      }
       l[d] = frac(rng) * g.spacing(d);
     }
     const ParticleStencil<Shape, 3> st(g, xc, l);
@@ -105,6 +115,95 @@ void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success) {
 TEUCHOS_UNIT_TEST(ShapeFunctions, LinearMpm3dCompleteness) { checkPartitionOfUnity3d<LinearMpm>(out, success); }
 TEUCHOS_UNIT_TEST(ShapeFunctions, UniformGimp3dCompleteness) { checkPartitionOfUnity3d<UniformGimp>(out, success); }
 TEUCHOS_UNIT_TEST(ShapeFunctions, Hex27Completeness) { checkPartitionOfUnity3d<impm::QuadraticLagrange>(out, success); }
+TEUCHOS_UNIT_TEST(ShapeFunctions, BSpline3dCompletenessUpToTheEdge) { checkPartitionOfUnity3d<QuadraticBSpline>(out, success, true); }
+
+// Quadratic B-splines in 2D at positions sweeping the whole grid in x (edge cells, grid lines and
+// half-cell lines included) at y on the edges, their half-cell lines and inside: 3 x 3 nodes,
+// non-negative weights, sum S = 1, sum grad S = 0, sum S x_i = x_p, sum S y_i = y_p and
+// sum grad_j S x_i,k = delta_jk.
+TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineCompletenessUpToTheEdge) {
+  const StructuredGrid g = testGrid();
+  const int perCell = 40;
+  int visited = 0;
+  for (int ix = 0; ix <= perCell * g.nx; ++ix)
+    for (double fy : {0.0, 0.2, 0.5, 1.0, 4.37, g.ny - 1.0, g.ny - 0.5, g.ny - 0.1, 1.0 * g.ny}) {
+      const double x = g.x0 + ix * g.hx / perCell, y = g.y0 + fy * g.hy;
+      const ParticleStencil<QuadraticBSpline> st(g, x, y, 0.0, 0.0);
+      TEST_EQUALITY_CONST(st.countX(), 3);
+      TEST_EQUALITY_CONST(st.countY(), 3);
+      TEST_ASSERT(st.first[0] >= 0 && st.first[0] + 2 <= g.nx && st.first[1] >= 0 && st.first[1] + 2 <= g.ny);
+      double sum = 0, gx = 0, gy = 0, mx = 0, my = 0, dxx = 0, dxy = 0, dyx = 0, dyy = 0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+          const double xi = g.nodeX(st.first[0] + a), yi = g.y0 + (st.first[1] + b) * g.hy;
+          TEST_COMPARE(st.weight(a, b), >=, 0.0);
+          sum += st.weight(a, b);
+          gx += st.gradX(a, b);
+          gy += st.gradY(a, b);
+          mx += st.weight(a, b) * xi;
+          my += st.weight(a, b) * yi;
+          dxx += st.gradX(a, b) * xi;
+          dxy += st.gradX(a, b) * yi;
+          dyx += st.gradY(a, b) * xi;
+          dyy += st.gradY(a, b) * yi;
+        }
+      TEST_FLOATING_EQUALITY(sum, 1.0, 1e-13);
+      TEST_COMPARE(std::abs(gx), <, 1e-12 / g.hx);
+      TEST_COMPARE(std::abs(gy), <, 1e-12 / g.hy);
+      TEST_COMPARE(std::abs(mx - x), <, 1e-13 * (1 + std::abs(x)));
+      TEST_COMPARE(std::abs(my - y), <, 1e-13 * (1 + std::abs(y)));
+      TEST_FLOATING_EQUALITY(dxx, 1.0, 1e-12);
+      TEST_FLOATING_EQUALITY(dyy, 1.0, 1e-12);
+      TEST_COMPARE(std::abs(dxy), <, 1e-12);
+      TEST_COMPARE(std::abs(dyx), <, 1e-12);
+      ++visited;
+    }
+  TEST_EQUALITY(visited, (perCell * g.nx + 1) * 9);
+}
+
+// The 1D B-spline weights of every node are C1 in the particle position over the whole grid
+// (no jump in weight or gradient at cell lines, half-cell lines or where the edge tents join),
+// the gradient weight is the derivative of the weight, and inside the grid a particle on a node
+// gives it 3/4 and each neighbour 1/8; on the edge node it takes all the weight.
+TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineIsC1UpToTheEdge) {
+  const StructuredGrid g = testGrid();
+  const double h = g.hx, eps = 1e-7 * h, y = g.y0 + 3.3 * g.hy;
+  // Weight and gradient weight of grid node i for a particle at x (0 off the stencil).
+  auto weightOf = [&](int i, double x, double& w, double& gr) {
+    const ParticleStencil<QuadraticBSpline> st(g, x, y, 0.0, 0.0);
+    w = gr = 0;
+    const int a = i - st.first[0];
+    if (a < 0 || a > 2) return;
+    const double wy = st.w[1][0] + st.w[1][1] + st.w[1][2];  // 1 (partition of unity in y)
+    w = st.w[0][a] * wy;
+    gr = st.g[0][a] * wy;
+  };
+  double worstJump = 0, worstDerivative = 0;
+  for (int i = 0; i <= g.nx; ++i)
+    for (int q = 1; q < 40 * g.nx; ++q) {
+      const double x = g.x0 + q * h / 40;  // hits every cell line and half-cell line
+      double wm, gm, wp, gp, w, gr;
+      weightOf(i, x - eps, wm, gm);
+      weightOf(i, x + eps, wp, gp);
+      weightOf(i, x, w, gr);
+      worstJump = std::max({worstJump, std::abs(wp - wm), std::abs(gp - gm) * h});
+      worstDerivative = std::max(worstDerivative, std::abs((wp - wm) / (2 * eps) - gr) * h);
+    }
+  out << "B-spline: max jump over 2e-7 h: " << worstJump << " (w, h grad w); max |FD - grad| h: " << worstDerivative << "\n";
+  TEST_COMPARE(worstJump, <, 1e-6);
+  TEST_COMPARE(worstDerivative, <, 1e-6);
+  double w, gr;
+  weightOf(5, g.nodeX(5), w, gr);
+  TEST_FLOATING_EQUALITY(w, 0.75, 1e-14);
+  weightOf(4, g.nodeX(5), w, gr);
+  TEST_FLOATING_EQUALITY(w, 0.125, 1e-14);
+  weightOf(6, g.nodeX(5), w, gr);
+  TEST_FLOATING_EQUALITY(w, 0.125, 1e-14);
+  weightOf(0, g.x0, w, gr);
+  TEST_FLOATING_EQUALITY(w, 1.0, 1e-14);
+  weightOf(g.nx, g.xMax(), w, gr);
+  TEST_FLOATING_EQUALITY(w, 1.0, 1e-14);
+}
 
 // S_ip = (1/2l) int_{x_p-l}^{x_p+l} N_i(x) dx and G_ip = (1/2l) int dN_i/dx dx, by a fine
 // midpoint rule. The tent's kinks make the rule O(h_q^2) accurate: 1e5 points give ~1e-9.

@@ -1,5 +1,5 @@
-// Particle-to-grid-to-particle transfers conserve mass and linear momentum, for both shape
-// functions and on any number of MPI ranks (grid sums travel through the Tpetra Import).
+// Particle-to-grid-to-particle transfers conserve mass and linear momentum, for every particle
+// shape function (MPM, GIMP, quadratic B-splines) and on any number of MPI ranks (grid sums travel through the Tpetra Import).
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
@@ -127,6 +127,8 @@ TEUCHOS_UNIT_TEST(Transfer, MpmConservesMassAndMomentum) { checkConservation<Lin
 TEUCHOS_UNIT_TEST(Transfer, GimpConservesMassAndMomentum) { checkConservation<UniformGimp, 2>(out, success); }
 TEUCHOS_UNIT_TEST(Transfer, Mpm3dConservesMassAndMomentum) { checkConservation<LinearMpm, 3>(out, success); }
 TEUCHOS_UNIT_TEST(Transfer, Gimp3dConservesMassAndMomentum) { checkConservation<UniformGimp, 3>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, BSplineConservesMassAndMomentum) { checkConservation<QuadraticBSpline, 2>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, BSpline3dConservesMassAndMomentum) { checkConservation<QuadraticBSpline, 3>(out, success); }
 
 }  // namespace
 
