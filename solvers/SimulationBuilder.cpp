@@ -253,8 +253,10 @@ void Simulation::buildMaterialsAndBodies() {
       if (!(p.hardening >= 0))
         throw DeckError("'" + key + "/Hardening Modulus' must not be negative, got " + formatNumber(p.hardening));
     } else {
+      // (A value, not whether it was written: a validated deck written out and read back has
+      // its defaults written too.)
       for (const char* plastic : {"Yield Stress", "Hardening Modulus"})
-        if (m.isParameter(plastic) && !m.getEntry(plastic).isDefault())
+        if (m.isParameter(plastic) && m.get<double>(plastic) != 0.0)
           throw DeckError("'" + key + "/" + plastic + "' is a J2 Plasticity parameter; 'Model' = " + model + " does not use it");
     }
     params.push_back(p);
