@@ -443,7 +443,8 @@ void convertSingleBodyForm(ParameterList& deck) {
   grid.set("Plane Condition", material.get<std::string>("Plane Condition"));
   grid.set("Thickness", material.get<double>("Thickness"));
   ParameterList& m = deck.sublist("Materials").sublist("Material");
-  for (const char* key : {"Young Modulus", "Poisson Ratio", "Density"}) m.set(key, material.get<double>(key));
+  for (const char* key : {"Young Modulus", "Poisson Ratio", "Density", "Yield Stress", "Hardening Modulus"})
+    m.set(key, material.get<double>(key));
   m.set("Model", material.get<std::string>("Model"));
   ParameterList& b = deck.sublist("Bodies").sublist("Body");
   b.set("Shape", std::string("Rectangle"));

@@ -168,9 +168,17 @@ set(good "${good_bar}")
 expect_failure(neo_hookean_plane_stress "Model: Linear Elastic" "Model: Neo-Hookean"
                "'Materials/Material/Model' = Neo-Hookean is plane strain or 3D")
 expect_failure(ramp_without_duration "Time Function: Step" "Time Function: Ramp" "Ramp Time' must be positive")
+expect_failure(plastic_key_on_elastic "    Density: 7800.0" "    Density: 7800.0\n    Yield Stress: 1.0e6"
+               "'Materials/Material/Yield Stress' is a J2 Plasticity parameter")
 file(READ "${SRC}/../apps/bar_implicit_fe_q9_plane_strain.yaml" good)
 expect_failure(neo_hookean_fe "Model: Linear Elastic" "Model: Neo-Hookean"
                "Model' = Neo-Hookean needs moving particles")
+file(READ "${SRC}/../apps/column_implicit_cpgimp_neohookean.yaml" good)
+expect_failure(j2_without_yield "Model: Neo-Hookean" "Model: J2 Plasticity" "'Materials/soil/Yield Stress' must be positive")
+expect_failure(j2_negative_hardening "Model: Neo-Hookean" "Model: J2 Plasticity\n      Yield Stress: 1.0e5\n      Hardening Modulus: -1.0"
+               "'Materials/soil/Hardening Modulus' must not be negative")
+expect_failure(negative_minimum_step "    Type: Implicit" "    Type: Implicit\n    Implicit:\n      Adaptive Time Step: true\n      Minimum Time Step: -1.0"
+               "'Integrator/Implicit/Minimum Time Step' must not be negative")
 set(good "${good_bar}")
 # A diverging explicit run (dt 3.75 times the stable step, allowed by Stability Factor 5): exit
 # 1 with a message that says so (not "particles left the grid"), summary.yaml Status: diverged,
