@@ -243,27 +243,30 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
               for (int i = 0; i < Dim; ++i)
                 for (int j = 0; j < Dim; ++j) G[i][j] += d(n, DisplacementColumns<Dim>::UX + i) * dw[j];
             });
-            // The trial state: F = (I + G) F_n and the law's stress there.
-            double F[Dim][Dim];
-            for (int i = 0; i < Dim; ++i)
-              for (int j = 0; j < Dim; ++j) {
-                double fij = Fp(p, i, j);
-                for (int k = 0; k < Dim; ++k) fij += G[i][k] * Fp(p, k, j);
-                F[i][j] = fij;
-              }
             double trial[StressLayout<Dim>::count];
             loadStress<Dim>(sig, p, trial);
             const int m = matId(p);
-            // A path-dependent law works on a copy of the history: the trial state is discarded.
-            double h[ParticleSet::kHistoryCount];
-            const bool withHistory = law.hasHistory(m);
-            if (withHistory)
-              for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
-            law.template stress<Dim>(m, trial, G, F, withHistory ? h : nullptr, trial);
-            if (law.finiteStrain(m))
+            if (law.finiteStrain(m)) {
+              // The trial state: F = (I + G) F_n and the law's stress there; a path-dependent law
+              // works on a copy of the history (the trial state is discarded).
+              double F[Dim][Dim];
+              for (int i = 0; i < Dim; ++i)
+                for (int j = 0; j < Dim; ++j) {
+                  double fij = Fp(p, i, j);
+                  for (int k = 0; k < Dim; ++k) fij += G[i][k] * Fp(p, k, j);
+                  F[i][j] = fij;
+                }
+              double h[ParticleSet::kHistoryCount];
+              const bool withHistory = law.hasHistory(m);
+              if (withHistory)
+                for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
+              law.template stress<Dim>(m, trial, G, F, withHistory ? h : nullptr, trial);
               scatterInternalForceDeformed(st, ix, vol(p), trial, G, out, ForceColumns<Dim>::ForceX);
-            else
+            } else {
+              // Small strain (the linear law): sigma_n + D sym(G) on the step's initial domain.
+              law.linearElastic(m).template stress<Dim>(trial, G, trial);
               scatterInternalForce(st, ix, vol(p), trial, out, ForceColumns<Dim>::ForceX);
+            }
           });
     }
     if (opt_.consistentMass) {
