@@ -171,10 +171,12 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
     choice(*pl, "Components", "all", {"all", "x", "y", "z", "xy", "xz", "yz", "xyz"},
            "displacement components fixed to zero (all: every component of the grid's dimension; z: 3D only)");
   } else if (collection == "Loads") {
-    choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force", "Body Force"},
+    choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force", "Body Force", "Manufactured Body Force"},
            "uniform traction on a face of a rectangular body (consistent nodal forces), a force on the grid "
-           "node at (X, Y), a force carried by the particle nearest (X, Y), or a body force m_p g "
-           "(Acceleration X/Y, e.g. gravity) on the particles of Body");
+           "node at (X, Y), a force carried by the particle nearest (X, Y), a body force m_p g "
+           "(Acceleration X/Y, e.g. gravity) on the particles of Body, or the body force m_p b(X_p, t) that makes "
+           "the deck's manufactured solution exact (Exact Solution/Type = Axis-Aligned Manufactured Solution; no "
+           "other key: the field is the exact solution's)");
     choice(*pl, "Face", "x+", {"x-", "x+", "y-", "y+", "z-", "z+"}, "face of the body (Face Traction; z-, z+ in 3D)");
     pl->set("Body", "", "Face Traction: the body whose face it is (empty: the first body); Body Force: the "
                         "body it acts on (empty: every body)");
@@ -312,9 +314,11 @@ RCP<const ParameterList> validParameters() {
   }
   {
     ParameterList& p = valid->sublist("Initial Conditions", false, "initial particle state (default: at rest)");
-    choice(p, "Type", "None", {"None", "Standing Wave"},
+    choice(p, "Type", "None", {"None", "Standing Wave", "Manufactured Solution"},
            "None: particles at rest; Standing Wave: zero displacement and v_x(X, 0) = Amplitude sin(Mode pi "
-           "(X - X Min) / L), L = the body's length (one mode of a bar fixed at both ends)");
+           "(X - X Min) / L), L = the body's length (one mode of a bar fixed at both ends); Manufactured Solution: "
+           "zero displacement and the velocity of the deck's manufactured solution at t = 0 (Exact Solution/Type = "
+           "Axis-Aligned Manufactured Solution)");
     number(p, "Amplitude", 0.0, "velocity amplitude V of the Standing Wave (m/s), non-zero");
     p.set("Mode", 1, "mode number n >= 1 of the Standing Wave (n half-waves along the body)");
   }
@@ -329,7 +333,8 @@ RCP<const ParameterList> validParameters() {
   {
     ParameterList& p = valid->sublist("Exact Solution", false, "exact solution for the monitors, if any");
     choice(p, "Type", "None",
-           {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load", "Column Under Self-Weight"},
+           {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load", "Column Under Self-Weight",
+            "Axis-Aligned Manufactured Solution"},
            "Bar Step Load: 1D rod fixed at X Min under the step load named by Load at X Max; "
            "Layered Bar Step Load: the same rod made of all the Rectangle bodies side by side along x, each of its "
            "own material, the load at the right end of the last: the wave fronts traced through every interface "
@@ -341,11 +346,17 @@ RCP<const ParameterList> validParameters() {
            "Column Under Self-Weight: a plane-strain column on a fixed base with rollers on both sides under the "
            "Body Force named by Load (Acceleration Y < 0), quasi-static at the load's current factor: "
            "sigma_yy = -f rho0 g (l0 - Y) exactly, and the stretch and displacement of the linear or neo-Hookean "
-           "law (physics/ColumnExact.hpp; displacement Y, stress YY and XX; modulus: the constrained lambda + 2 mu)");
+           "law (physics/ColumnExact.hpp; displacement Y, stress YY and XX; modulus: the constrained lambda + 2 mu); "
+           "Axis-Aligned Manufactured Solution: Wallstedt & Guilkey's (2008) field u_d = A sin(2 pi (X_d - o_d) / L) "
+           "sin(omega t), omega = pi sqrt(E / rho0) / L, on a square (cube) neo-Hookean Body of side L with rollers "
+           "on every face, driven by a Load of Type = Manufactured Body Force and started by Initial Conditions/Type "
+           "= Manufactured Solution (physics/ManufacturedSolution.hpp); every displacement, velocity and stress, "
+           "and the whole displacement field (summary.yaml: Displacement Field Error)");
     choice(p, "Modulus", "Plane Condition", {"Plane Condition", "Young Modulus"},
            "modulus of the exact solution: Plane Condition = E in plane stress, E/(1-nu^2) in plane strain");
     p.set("Load", "", "name of the load (in Loads) that the exact solution is driven by (not used by Bar Standing Wave)");
     p.set("Body", "", "the body the exact solution describes (empty: the first body; a Rectangle)");
+    number(p, "Amplitude", 0.0, "Axis-Aligned Manufactured Solution: displacement amplitude A (m), 0 < A < L / (4 pi)");
     choice(p, "Form", "Closed", {"Closed", "Series"}, "bar: d'Alembert closed form or Fourier series");
     p.set("Series Terms", 2000, "terms of the series");
     choice(p, "Beam Theory", "Euler-Bernoulli", {"Euler-Bernoulli", "Timoshenko"},

@@ -248,6 +248,7 @@ class SelfWeightColumn : public ExactReference {
     modulus_ = column_.lambda + 2 * column_.mu;  // the constrained modulus M of the laterally confined column
     yMin_ = b.rect.yMin;
     time_ = load.time;
+    fieldBody_ = (int)(&b - c.bodies.data());
   }
   std::string type() const override { return "Column Under Self-Weight"; }
   double value(const std::string& q, double, double y0, double t) const override {
@@ -257,12 +258,59 @@ class SelfWeightColumn : public ExactReference {
     if (q == "Stress XX") return column_.stressXX(Y, f);
     return kNaN;
   }
+  bool displacementAt(const double* X, double t, int dim, double* u) const override {
+    for (int d = 0; d < dim; ++d) u[d] = 0.0;  // laterally confined: the column only settles
+    u[1] = column_.displacementY(X[1] - yMin_, time_(t));
+    return true;
+  }
   const SelfWeightColumnExact& column() const { return column_; }
 
  private:
   SelfWeightColumnExact column_{};
   double yMin_ = 0;
   TimeFunction time_{};
+};
+
+// Wallstedt & Guilkey's axis-aligned manufactured solution (physics/ManufacturedSolution.hpp):
+// every monitor quantity and the whole displacement field of its body.
+class AxisAlignedManufacturedReference : public ExactReference {
+ public:
+  AxisAlignedManufacturedReference(const ParameterList& e, const ExactContext& c) : field_(axisAlignedManufactured(e, c)) {
+    const BodySpec& b = exactBody(e, c);
+    fieldBody_ = (int)(&b - c.bodies.data());
+    modulus_ = c.materials->parameters(b.material).E;  // the time scale omega = pi sqrt(E / rho0) / L
+  }
+  std::string type() const override { return "Axis-Aligned Manufactured Solution"; }
+  double value(const std::string& q, double x0, double y0, double t) const override {
+    const double X[3] = {x0, y0, 0.0};
+    return valueAt(q, X, t);
+  }
+  double valueAt(const std::string& q, const double* X, double t) const override {
+    for (int d = 0; d < field_.dim; ++d) {
+      const std::string axis(1, char('X' + d));
+      if (q == "Displacement " + axis) return field_.displacement(X, t, d);
+      if (q == "Velocity " + axis) return field_.velocity(X, t, d);
+    }
+    if (q == "Stress XX") return field_.stress(X, t, 0);
+    if (q == "Stress YY") return field_.stress(X, t, 1);
+    if (q == "Stress ZZ") return field_.stress(X, t, 2);
+    if (q == "Stress XY" || q == "Stress YZ" || q == "Stress XZ") return 0.0;
+    return kNaN;
+  }
+  bool displacementAt(const double* X, double t, int dim, double* u) const override {
+    for (int d = 0; d < dim; ++d) u[d] = field_.displacement(X, t, d);
+    return true;
+  }
+  void addSummary(ParameterList& s) const override {
+    ParameterList& m = s.sublist("Manufactured Solution");
+    m.set("Amplitude", field_.amplitude);
+    m.set("Side", field_.length);
+    m.set("Angular Frequency", field_.omega);
+    m.set("Largest Stretch Change", 2 * AxisAlignedManufactured::kPi * field_.amplitude / field_.length);
+  }
+
+ private:
+  AxisAlignedManufactured field_;
 };
 
 }  // namespace
@@ -276,7 +324,38 @@ std::unique_ptr<ExactReference> makeExactReference(const ParameterList& e, const
   if (type == "Simply Supported Beam") return std::make_unique<SimplySupportedBeam>(e, c);
   if (type == "Layered Bar Step Load") return std::make_unique<LayeredBar>(e, c);
   if (type == "Column Under Self-Weight") return std::make_unique<SelfWeightColumn>(e, c);
+  if (type == "Axis-Aligned Manufactured Solution") return std::make_unique<AxisAlignedManufacturedReference>(e, c);
   return nullptr;
+}
+
+AxisAlignedManufactured axisAlignedManufactured(const ParameterList& e, const ExactContext& c) {
+  const BodySpec& b = exactBody(e, c);
+  const std::string what = "'Exact Solution/Type' = Axis-Aligned Manufactured Solution";
+  if (c.bodies.size() != 1)
+    throw DeckError(what + " describes a single body; the deck has " + std::to_string(c.bodies.size()));
+  const MaterialParameters& m = c.materials->parameters(b.material);
+  if (m.model != MaterialModel::NeoHookean)
+    throw DeckError(what + " is a neo-Hookean field: 'Bodies/" + b.name + "' must be made of a material with Model = Neo-Hookean");
+  AxisAlignedManufactured f;
+  f.dim = c.dimension;
+  f.length = b.rect.length();
+  for (int d = 0; d < f.dim; ++d) {
+    const double side = b.rect.hi(d) - b.rect.lo(d);
+    if (std::abs(side - f.length) > 1e-12 * f.length)
+      throw DeckError(what + " needs a square (3D: cube) body: 'Bodies/" + b.name + "' is " + formatNumber(f.length) +
+                      " long in x and " + formatNumber(side) + " in " + std::string(1, char('x' + d)));
+    f.origin[d] = b.rect.lo(d);
+  }
+  f.amplitude = e.get<double>("Amplitude");
+  const double largestStrain = 2 * AxisAlignedManufactured::kPi * std::abs(f.amplitude) / f.length;
+  if (!(f.amplitude > 0) || !(largestStrain < 0.5))
+    throw DeckError("'Exact Solution/Amplitude' must be positive and below L / (4 pi) = " + formatNumber(f.length / (4 * AxisAlignedManufactured::kPi)) +
+                    " (stretches of 1 +/- 2 pi A / L within 50%), got " + formatNumber(f.amplitude));
+  f.mu = m.E / (2 * (1 + m.nu));
+  f.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
+  f.density = m.density;
+  f.omega = AxisAlignedManufactured::kPi * std::sqrt(m.E / m.density) / f.length;
+  return f;
 }
 
 }  // namespace impm

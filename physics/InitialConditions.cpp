@@ -16,4 +16,17 @@ void applyStandingWaveVelocity(ParticleSet& particles, double xMin, double lengt
   Kokkos::fence();
 }
 
+void applyManufacturedVelocity(ParticleSet& particles, const AxisAlignedManufactured& field) {
+  auto x0 = particles.x0;
+  auto v = particles.v;
+  const int dim = particles.dim;
+  Kokkos::parallel_for(
+      "manufactured_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, particles.count), KOKKOS_LAMBDA(int p) {
+        double X[3] = {0, 0, 0};
+        for (int d = 0; d < dim; ++d) X[d] = x0(p, d);
+        for (int d = 0; d < dim; ++d) v(p, d) = field.velocity(X, 0.0, d);
+      });
+  Kokkos::fence();
+}
+
 }  // namespace impm

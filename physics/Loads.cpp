@@ -73,6 +73,8 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dis
     } else if (s.type == "Body Force") {
       bodyForceLoads_.push_back((int)l);
       hasBodyForces_ = true;
+    } else if (s.type == "Manufactured Body Force") {
+      manufacturedLoads_.push_back((int)l);
     }
   }
   node_ = Kokkos::View<int*, DeviceType>("load_nodes", nodes.size());

@@ -11,6 +11,7 @@
 #include "core/ParticleStencil.hpp"
 #include "core/kernels/ParticleToGrid.hpp"
 #include "physics/Body.hpp"
+#include "physics/ManufacturedSolution.hpp"
 
 namespace impm {
 
@@ -24,10 +25,11 @@ struct TimeFunction {
 
 struct LoadSpec {
   std::string name;
-  std::string type;  // "Face Traction", "Node Force", "Particle Force", "Body Force"
+  std::string type;  // "Face Traction", "Node Force", "Particle Force", "Body Force", "Manufactured Body Force"
   std::string face;  // for Face Traction
   RectangularBody body;  // the body whose face carries a Face Traction
-  int bodyIndex = -1;    // Body Force: the body (-1: every body)
+  int bodyIndex = -1;    // Body Force, Manufactured Body Force: the body (-1: every body)
+  AxisAlignedManufactured manufactured;  // Manufactured Body Force: the field whose forcing it is
   double x = 0, y = 0, z = 0;
   double forceX = 0, forceY = 0, forceZ = 0;  // total force (N)
   double accelerationX = 0, accelerationY = 0, accelerationZ = 0;  // Body Force (m/s^2)
@@ -83,6 +85,8 @@ class LoadSet {
       particleToGridForces<ExecSpace, Shape, Dim>(g, ix, ps, particleIndices(), particleForces(t), grid, col);
     if (hasBodyForces())
       particleToGridBodyForces<ExecSpace, Shape, Dim>(g, ix, ps, bodyAccelerations(t), grid, col);
+    for (int l : manufacturedLoads_)
+      particleToGridBodyForceField<ExecSpace, Shape, Dim>(g, ix, ps, specs_[l].manufactured, t, specs_[l].bodyIndex, grid, col);
   }
 
  private:
@@ -96,6 +100,7 @@ class LoadSet {
   std::vector<std::pair<long long, int>> particleLoadIds_;  // (global id, load) of every Particle Force
   mutable Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> particleForce_;
   std::vector<int> bodyForceLoads_;
+  std::vector<int> manufacturedLoads_;
   int bodyCount_ = 0;
   int dim_ = 2;
   bool hasBodyForces_ = false;

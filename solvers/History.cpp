@@ -16,8 +16,12 @@ History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, c
                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm, double firstTime)
     : monitors_(monitors), particles_(particles), materials_(materials), exact_(exact), energy_(energyAndMomentum),
       comm_(comm) {
-  for (const auto& m : monitors_)
-    withExact_.push_back(exact_ && !std::isnan(exact_->value(m.quantity, m.x0, m.y0, firstTime)));
+  for (const auto& m : monitors_) {
+    const double X[3] = {m.x0, m.y0, m.z0};
+    withExact_.push_back(exact_ && !std::isnan(exact_->valueAt(m.quantity, X, firstTime)));
+  }
+  double X[3] = {0, 0, 0}, u[3];
+  field_ = exact_ && exact_->displacementAt(X, firstTime, particles_.dim, u);
 }
 
 void History::open(const std::string& path) {
@@ -30,6 +34,7 @@ void History::open(const std::string& path) {
     if (withExact_[k]) csv_ << ',' << monitors_[k].name << "_exact";
   }
   if (energy_) csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y" << (particles_.dim == 3 ? ",momentum_z" : "");
+  if (field_) csv_ << ",displacement_error_rms,displacement_error_max";
   csv_ << '\n' << std::setprecision(10);
 }
 
@@ -73,7 +78,8 @@ void History::record(double t, RunResult& r) {
     r.computed[m.name].push_back(global[k]);
     if (root) csv_ << ',' << global[k];
     if (withExact_[k]) {
-      const double ex = exact_->value(m.quantity, m.x0, m.y0, t);
+      const double X[3] = {m.x0, m.y0, m.z0};
+      const double ex = exact_->valueAt(m.quantity, X, t);
       r.exact[m.name].push_back(ex);
       if (root) csv_ << ',' << ex;
     }
@@ -92,7 +98,41 @@ void History::record(double t, RunResult& r) {
       if (particles_.dim == 3) csv_ << ',' << e.momentum[2];
     }
   }
+  if (field_) {
+    const auto [rms, max] = displacementFieldError(t);
+    r.fieldErrorRms.push_back(rms);
+    r.fieldErrorMax.push_back(max);
+    if (root) csv_ << ',' << rms << ',' << max;
+  }
   if (root) csv_ << '\n';
+}
+
+std::pair<double, double> History::displacementFieldError(double t) const {
+  const int dim = particles_.dim;
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.fixedPositions() ? particles_.u : particles_.x);
+  auto x0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
+  auto v0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.volume0);
+  auto body = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.body);
+  const bool fixed = particles_.fixedPositions();
+  double local[2] = {0, 0}, global[2];  // sum V0 |e|^2, sum V0
+  double localMax = 0, globalMax = 0;
+  for (int p = 0; p < particles_.count; ++p) {
+    if (exact_->fieldBody() >= 0 && body(p) != exact_->fieldBody()) continue;
+    double X[3] = {0, 0, 0}, u[3];
+    for (int d = 0; d < dim; ++d) X[d] = x0(p, d);
+    exact_->displacementAt(X, t, dim, u);
+    double e2 = 0;
+    for (int d = 0; d < dim; ++d) {
+      const double computed = fixed ? x(p, d) : x(p, d) - x0(p, d);
+      e2 += (computed - u[d]) * (computed - u[d]);
+    }
+    local[0] += v0(p) * e2;
+    local[1] += v0(p);
+    localMax = std::max(localMax, std::sqrt(e2));
+  }
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 2, local, global);
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, localMax, Teuchos::outArg(globalMax));
+  return {global[1] > 0 ? std::sqrt(global[0] / global[1]) : 0.0, globalMax};
 }
 
 void History::finish(RunResult& r) const {
@@ -103,6 +143,12 @@ void History::finish(RunResult& r) const {
     double num = 0, den = 0;
     for (size_t i = 0; i < c.size(); ++i) { num += (c[i] - e[i]) * (c[i] - e[i]); den += e[i] * e[i]; }
     r.relativeL2[monitors_[k].name] = den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+  }
+  if (!r.fieldErrorRms.empty()) {
+    r.fieldErrorRmsEnd = r.fieldErrorRms.back();
+    r.fieldErrorMaxEnd = r.fieldErrorMax.back();
+    r.fieldErrorRmsPeak = *std::max_element(r.fieldErrorRms.begin(), r.fieldErrorRms.end());
+    r.fieldErrorMaxPeak = *std::max_element(r.fieldErrorMax.begin(), r.fieldErrorMax.end());
   }
   if (energy_ && !r.time.empty()) {
     const double e0 = r.kinetic.front() + r.strain.front();

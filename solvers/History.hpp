@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/ParticleSet.hpp"
@@ -42,6 +43,12 @@ struct RunResult {
   // With Output/Energy And Momentum: per recorded time, and the drifts of summary.yaml.
   std::vector<double> kinetic, strain, momentumX, momentumY, momentumZ;
   double energyRelativeDrift = 0, energyMaxRelativeDeviation = 0, momentumMaxRelativeChange = 0;
+  // With an exact solution that knows the whole displacement field: per recorded time, the
+  // volume-weighted RMS sqrt(sum V0 |u_p - u(X_p, t)|^2 / sum V0) and the largest particle error
+  // over the field's body; then their values at the end and their peaks over the run.
+  std::vector<double> fieldErrorRms, fieldErrorMax;
+  double fieldErrorRmsEnd = 0, fieldErrorMaxEnd = 0, fieldErrorRmsPeak = 0, fieldErrorMaxPeak = 0;
+  bool hasFieldError() const { return !fieldErrorRms.empty(); }
 };
 
 class History {
@@ -64,6 +71,8 @@ class History {
 
  private:
   double monitorValue(const Monitor& m) const;
+  // (RMS, max) of the particles' displacement error against the exact field at t. Collective.
+  std::pair<double, double> displacementFieldError(double t) const;
 
   std::vector<Monitor>& monitors_;
   const ParticleSet& particles_;
@@ -72,6 +81,7 @@ class History {
   bool energy_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   std::vector<bool> withExact_;
+  bool field_ = false;  // the exact solution knows the whole displacement field
   std::ofstream csv_;
   double momentumScale_ = 0;  // sum m |v| at the first row
 };

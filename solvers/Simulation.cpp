@@ -184,18 +184,57 @@ RunResult Simulation::run(std::ostream& log) {
 
   PvdIndex pvd(outputDir_ + "/particles.pvd", comm_->getSize());
   int vtkCount = 0;
-  auto writeVtk = [&](double t) {
+  auto writeVtkOf = [&](const ParticleSet& ps, double t) {
     char stem[64];
     std::snprintf(stem, sizeof stem, "particles_%05d", vtkCount++);
     // Each rank writes its piece, then rank 0 the index; a failure on any rank ends them all.
-    rethrowOnEveryRank(*comm_, true, [&] { writeParticlesVtu(outputDir_ + "/" + PvdIndex::pieceName(stem, rank), particles_); });
+    rethrowOnEveryRank(*comm_, true, [&] { writeParticlesVtu(outputDir_ + "/" + PvdIndex::pieceName(stem, rank), ps); });
     rethrowOnEveryRank(*comm_, rank == 0, [&] { pvd.add(t, stem); });
+    return std::string(stem);
+  };
+  auto writeVtk = [&](double t) { return writeVtkOf(particles_, t); };
+  // The state at the last history row, packed as for migration: when a later step diverges
+  // (an inverted particle, a NaN) it is written as the last good state. A copy every History
+  // Interval steps, not every step (the explicit hot loop stays as it is). Not for the FE
+  // reference's fixed Gauss points, which neither move nor invert.
+  const bool keepGoodState = !particles_.fixedPositions();
+  ParticleSet::Packed goodState;
+  ParticleSet::Ids everyParticle;
+  double goodTime = 0;
+  int goodStep = 0;
+  auto keepState = [&](double t, int step) {
+    if (!keepGoodState) return;
+    if ((int)everyParticle.extent(0) != particles_.count) {
+      everyParticle = ParticleSet::Ids("every_particle", particles_.count);
+      auto all = everyParticle;
+      Kokkos::parallel_for("iota", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count), KOKKOS_LAMBDA(int p) { all(p) = p; });
+    }
+    if ((int)goodState.extent(0) != particles_.count || (int)goodState.extent(1) != particles_.packedWidth())
+      goodState = ParticleSet::Packed(Kokkos::view_alloc(Kokkos::WithoutInitializing, "good_state"), particles_.count,
+                                      particles_.packedWidth());
+    particles_.pack(everyParticle, goodState);
+    Kokkos::fence();
+    goodTime = t;
+    goodStep = step;
+  };
+  auto writeGoodState = [&]() {
+    ParticleSet good;
+    good.dim = particles_.dim;
+    if (particles_.hasHistory()) {
+      good.historyAllocated = true;
+      good.history = ParticleSet::Hist("history", 0, ParticleSet::kHistoryCount);
+    }
+    good.resize(0);
+    good.unpackAppend(goodState);
+    Kokkos::fence();
+    return writeVtkOf(good, goodTime);
   };
   auto writeSummaryOnRoot = [&](const RunResult& result) {
     rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
   };
 
   history.record(0.0, r);
+  keepState(0.0, 0);
   writeVtk(0.0);
   const bool tty = isatty(fileno(stderr));
   using clock = std::chrono::steady_clock;
@@ -239,9 +278,13 @@ RunResult Simulation::run(std::ostream& log) {
                        " times its material's P-wave modulus (a strain of order one)";
       }
       writeSummaryOnRoot(r);
+      std::string goodFile;
+      if (keepGoodState) goodFile = writeGoodState();
       throw std::runtime_error("the run diverged at step " + std::to_string(n + 1) + " (t = " + formatNumber(tNew) +
                                " s): " + r.divergence + "; " + timeStepAdvice() + "; history.csv and summary.yaml up to step " +
-                               std::to_string(n) + " are in " + outputDir_);
+                               std::to_string(n) + (goodFile.empty() ? std::string() : ", and the last good state recorded (step " +
+                               std::to_string(goodStep) + ", t = " + formatNumber(goodTime) + " s) as " + goodFile + ".vtu,") +
+                               " are in " + outputDir_);
     }
     if (migrateParticles(particles_, *dist_) > 0) {
       // Local indices changed: find the monitored and loaded particles by global id.
@@ -249,7 +292,10 @@ RunResult Simulation::run(std::ostream& log) {
       history.locateMonitors();
     }
     checkParticlesInReach(tNew);
-    if ((n + 1) % historyInterval == 0 || n + 1 == steps_) history.record(tNew, r);
+    if ((n + 1) % historyInterval == 0 || n + 1 == steps_) {
+      history.record(tNew, r);
+      keepState(tNew, n + 1);
+    }
     if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);
     if (progress && rank == 0) {
       const auto now = clock::now();
@@ -278,6 +324,10 @@ RunResult Simulation::run(std::ostream& log) {
     for (const auto& [name, err] : r.relativeL2)
       log << "  relative L2 error of " << name << " against the exact solution (modulus " << std::setprecision(4)
           << exactModulus() << " Pa): " << std::setprecision(3) << 100 * err << " %\n";
+    if (r.hasFieldError())
+      log << "  displacement field error against the exact solution: RMS " << std::setprecision(3) << r.fieldErrorRmsEnd
+          << " m, max " << r.fieldErrorMaxEnd << " m at the end (peaks over the run " << r.fieldErrorRmsPeak << ", "
+          << r.fieldErrorMaxPeak << " m)\n";
     if (energyHistory_)
       log << "  total energy drift " << std::setprecision(3) << r.energyRelativeDrift << " (max deviation "
           << r.energyMaxRelativeDeviation << "), momentum max relative change " << r.momentumMaxRelativeChange << "\n";

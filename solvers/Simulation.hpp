@@ -97,6 +97,7 @@ class Simulation {
   std::vector<Monitor> monitors_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<ExactReference> exact_;
+  std::unique_ptr<AxisAlignedManufactured> manufactured_;  // Exact Solution/Type = Axis-Aligned Manufactured Solution
   double dt_ = 0;
   double criticalStep_ = 0;  // explicit: 0.7 / (c_p sqrt(1/hx^2 + 1/hy^2 [+ 1/hz^2])) (Stability Factor 1); 0 for implicit runs
   int steps_ = 0;

@@ -162,10 +162,25 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   }
   constraints_ = NodalConstraints(cspecs, *dist_);
 
+  // A manufactured solution (Exact Solution/Type) drives the initial state and a load: read it first.
+  if (deck_.sublist("Exact Solution").get<std::string>("Type") == "Axis-Aligned Manufactured Solution") {
+    ExactContext early;
+    early.bodies = bodies_;
+    early.materials = &materials_;
+    early.dimension = grid_.dim;
+    manufactured_ = std::make_unique<AxisAlignedManufactured>(axisAlignedManufactured(deck_.sublist("Exact Solution"), early));
+  }
+
   // Initial conditions, before the integrators (an implicit one computes a(0) from this state).
   // The standing wave is one mode of the first body (or Exact Solution/Body).
   const ParameterList& ic = deck_.sublist("Initial Conditions");
   const std::string icType = ic.get<std::string>("Type");
+  if ((icType == "Manufactured Solution") != (manufactured_ != nullptr))
+    throw DeckError(manufactured_ ? "'Initial Conditions/Type' must be Manufactured Solution with 'Exact Solution/Type' = "
+                                    "Axis-Aligned Manufactured Solution (the particles start on the solution), got " + icType
+                                  : "'Initial Conditions/Type' = Manufactured Solution needs 'Exact Solution/Type' = Axis-Aligned "
+                                    "Manufactured Solution (the field it starts from)");
+  if (manufactured_) applyManufacturedVelocity(particles_, *manufactured_);
   const double icAmplitude = ic.get<double>("Amplitude");
   const int icMode = ic.get<int>("Mode");
   if (icType == "Standing Wave") {
@@ -211,6 +226,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   context.initialMode = icMode;
   context.dt = dt_;
   context.steps = steps_;
+  context.manufactured = manufactured_.get();
   exact_ = makeExactReference(deck_.sublist("Exact Solution"), context);
 
   buildIntegrator();
@@ -589,6 +605,13 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     }
     if (s.type == "Body Force" && !bodyName.empty())
       s.bodyIndex = (int)(&bodyNamed(key + "/Body", bodyName) - bodies_.data());
+    if (s.type == "Manufactured Body Force") {
+      if (!manufactured_)
+        throw DeckError("'" + key + "/Type' = Manufactured Body Force needs 'Exact Solution/Type' = Axis-Aligned Manufactured "
+                        "Solution (the field whose forcing it is)");
+      s.manufactured = *manufactured_;
+      s.bodyIndex = 0;  // the manufactured solution's single body
+    }
     long long particle = -1;
     if (s.type == "Particle Force") {
       Monitor m;
@@ -599,6 +622,9 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     loadParticle.push_back(particle);
     specs.push_back(s);
   }
+  if (manufactured_ && std::none_of(specs.begin(), specs.end(), [](const LoadSpec& s) { return s.type == "Manufactured Body Force"; }))
+    throw DeckError("'Exact Solution/Type' = Axis-Aligned Manufactured Solution needs a load of 'Type' = Manufactured Body "
+                    "Force in Loads (without it the field is not a solution)");
   loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size(), shape_ == "FE Q9");
   loads_.locateParticles(particles_);
   return specs;

@@ -41,6 +41,13 @@ void Simulation::writeSummary(const RunResult& r) const {
     exact_->addSummary(s);
     ParameterList& err = s.sublist("Relative L2 Error");
     for (const auto& [name, e] : r.relativeL2) err.set(name, e);
+    if (r.hasFieldError()) {
+      ParameterList& f = s.sublist("Displacement Field Error");
+      f.set("RMS At End", r.fieldErrorRmsEnd);
+      f.set("Max At End", r.fieldErrorMaxEnd);
+      f.set("Peak RMS", r.fieldErrorRmsPeak);
+      f.set("Peak Max", r.fieldErrorMaxPeak);
+    }
   }
   if (energyHistory_ && !r.time.empty()) {
     ParameterList& e = s.sublist("Energy");

@@ -160,6 +160,16 @@ foreach(np 1 2)
       message(FATAL_ERROR "inverted_np${np}: summary.yaml lacks '${expected}': ${summary}")
     endif()
   endforeach()
+  # The last good state (the last history row's) is written beside the first step's VTU, and
+  # none of its particles is inverted (every det F in it is positive).
+  if(NOT EXISTS "${output}/particles_00001_r0.vtu")
+    message(FATAL_ERROR "inverted_np${np}: no VTU of the last good state (particles_00001_r0.vtu)")
+  endif()
+  file(READ "${output}/particles_00001_r0.vtu" good_vtu)
+  string(REGEX MATCH "Name=\"det_F\"[^>]*>[^<]*<" det_f "${good_vtu}")
+  if(det_f STREQUAL "" OR det_f MATCHES "[ \n\t]-")
+    message(FATAL_ERROR "inverted_np${np}: the last good state's det_F is missing or has a negative value")
+  endif()
 endforeach()
 
 # A neo-Hookean material in plane stress, and with the FE reference; a Ramp load without its
@@ -179,6 +189,18 @@ expect_failure(j2_negative_hardening "Model: Neo-Hookean" "Model: J2 Plasticity\
                "'Materials/soil/Hardening Modulus' must not be negative")
 expect_failure(negative_minimum_step "    Type: Implicit" "    Type: Implicit\n    Implicit:\n      Adaptive Time Step: true\n      Minimum Time Step: -1.0"
                "'Integrator/Implicit/Minimum Time Step' must not be negative")
+# The manufactured solution: its field, load and initial state belong together.
+file(READ "${SRC}/../apps/mms_explicit_cpgimp_neohookean.yaml" good)
+expect_failure(mms_linear_material "Model: Neo-Hookean" "Model: Linear Elastic"
+               "'Bodies/block' must be made of a material with Model = Neo-Hookean")
+expect_failure(mms_not_square "      Y Max: 1.0" "      Y Max: 0.5" "needs a square (3D: cube) body: 'Bodies/block' is 1 long in x and 0.5 in y")
+expect_failure(mms_large_amplitude "Amplitude: 0.025" "Amplitude: 0.1" "'Exact Solution/Amplitude' must be positive and below")
+expect_failure(mms_without_forcing "      Type: Manufactured Body Force" "      Type: Body Force"
+               "needs a load of 'Type' = Manufactured Body Force")
+expect_failure(mms_at_rest "    Type: Manufactured Solution\n" "    Type: None\n"
+               "'Initial Conditions/Type' must be Manufactured Solution")
+expect_failure(mms_forcing_alone "    Type: Axis-Aligned Manufactured Solution" "    Type: None"
+               "'Initial Conditions/Type' = Manufactured Solution needs 'Exact Solution/Type' = Axis-Aligned")
 set(good "${good_bar}")
 # A diverging explicit run (dt 3.75 times the stable step, allowed by Stability Factor 5): exit
 # 1 with a message that says so (not "particles left the grid"), summary.yaml Status: diverged,

@@ -7,7 +7,8 @@
 Generates decks from the base decks in apps/ (output-root/decks/), runs each with build/apps/impm
 one at a time (output-root/runs/<case>/; a run whose summary.yaml exists and whose deck is
 unchanged is reused), computes errors, refinement orders, Problem 2's discrepancy budget, the
-cell-crossing study (crossing.py) and the large-deformation section (largedef.py), and writes
+cell-crossing study (crossing.py), the large-deformation section (largedef.py) and the
+manufactured-solution convergence study (mms.py), and writes
 doc/verification.md with its figures in doc/verification/ (--reduced: a short subset for ctest,
 written under output-root). --check prints one PASS/FAIL line per target and exits 1 if
 any fails. cmake/run-verification.sh builds impm first and then calls this script.
@@ -33,6 +34,7 @@ import checks  # noqa: E402
 import crossing  # noqa: E402
 import decks  # noqa: E402
 import largedef  # noqa: E402
+import mms  # noqa: E402
 import plots  # noqa: E402
 import report  # noqa: E402
 from runner import Runner  # noqa: E402
@@ -231,10 +233,17 @@ def main(argv=None):
         runner.run(c, i, len(ld_cases))
     large = largedef.compute(runner.runs, ld_plan)
     res["checks"].extend(large["checks"])
+    mms_plan = mms.plan(REPO, args.reduced)
+    mms_cases = mms.cases_of(mms_plan)
+    for i, c in enumerate(mms_cases, 1):
+        runner.run(c, i, len(mms_cases))
+    manufactured = mms.compute(runner.runs, mms_plan)
+    res["checks"].extend(manufactured["checks"])
 
     os.makedirs(image_dir, exist_ok=True)
     make_plots(res, image_dir)
     largedef.plot(large, image_dir)
+    mms.plot(manufactured, image_dir)
     ok_runs = [r for r in runs.values() if r.ok]
     meta = {
         "command": os.environ.get("IMPM_VERIFICATION_COMMAND") or "python3 apps/verification/verification_report.py "
@@ -264,6 +273,7 @@ def main(argv=None):
     with open(doc, "a") as f:
         f.write("\n" + "\n".join(crossing.markdown(cross)) + "\n")
         f.write("\n" + "\n".join(largedef.markdown(large, os.path.relpath(image_dir, os.path.dirname(doc)))) + "\n")
+        f.write("\n" + "\n".join(mms.markdown(manufactured, os.path.relpath(image_dir, os.path.dirname(doc)))) + "\n")
     print(f"verification_report: wrote {os.path.relpath(doc, os.getcwd())} and {len(os.listdir(image_dir))} figures "
           f"in {os.path.relpath(image_dir, os.getcwd())}; {meta['runs']} runs ({meta['reused']} reused, "
           f"{meta['failed']} failed), {meta['elapsed']:.0f} s")

@@ -130,4 +130,23 @@ void particleToGridBodyForces(const StructuredGrid& g, const LocalNodeIndexer& i
       });
 }
 
+// Body forces that vary over the body: m_p b(X_p, t) S_ip for the particles of body `bodyIndex`
+// (-1: every body), b a device functor of the reference position X_p and the time with
+// bodyForce(X, t, d) (a manufactured solution's forcing, physics/ManufacturedSolution.hpp).
+template <class ExecSpace, class Shape, int Dim, class Field, class GridView>
+void particleToGridBodyForceField(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                                  const Field& field, double t, int bodyIndex, const GridView& grid, int forceCol) {
+  auto m = ps.mass; auto body = ps.body; auto x0 = ps.x0;
+  scatterToGrid<ExecSpace, Shape, Dim>(
+      "p2g_body_force_field", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
+        if (bodyIndex >= 0 && body(p) != bodyIndex) return;
+        double X[3] = {0, 0, 0}, f[Dim];
+        for (int d = 0; d < Dim; ++d) X[d] = x0(p, d);
+        for (int d = 0; d < Dim; ++d) f[d] = m(p) * field.bodyForce(X, t, d);
+        st.forEachNode(ix, [&](int n, double w, const double*) {
+          for (int d = 0; d < Dim; ++d) out(n, forceCol + d) += w * f[d];
+        });
+      });
+}
+
 }  // namespace impm
