@@ -136,4 +136,18 @@ TEUCHOS_UNIT_TEST(Cantilever, ModerateDeflectionConverges) {
   TEST_COMPARE(medium.x, <, 0.02);
 }
 
+TEUCHOS_UNIT_TEST(Cantilever, DeckThatIsNotTheCantileverIsRejected) {
+  // The exact solution names what it needs: a clamp (xy) on the beam's x- face, and end loads
+  // that are Particle Forces along y.
+  auto base = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/cantilever_implicit_cpgimp_neohookean.yaml");
+  base->sublist("Output").set("Plot", false).set("Progress", false);
+  ParameterList rollers = *base, nodeForce = *base;
+  rollers.sublist("Constraints").sublist("clamp").set("Components", "y");
+  nodeForce.sublist("Loads").sublist("end load lower").set("Type", "Node Force").set("Y", 0.0);
+  for (ParameterList* deck : {&rollers, &nodeForce}) {
+    impm::validateDeck(*deck);
+    TEST_THROW(impm::Simulation(*deck, Tpetra::getDefaultComm(), "test_output/cantilever_bad"), impm::DeckError);
+  }
+}
+
 }  // namespace
