@@ -334,7 +334,7 @@ RCP<const ParameterList> validParameters() {
     ParameterList& p = valid->sublist("Exact Solution", false, "exact solution for the monitors, if any");
     choice(p, "Type", "None",
            {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load", "Column Under Self-Weight",
-            "Axis-Aligned Manufactured Solution"},
+            "Axis-Aligned Manufactured Solution", "Cantilever End Load"},
            "Bar Step Load: 1D rod fixed at X Min under the step load named by Load at X Max; "
            "Layered Bar Step Load: the same rod made of all the Rectangle bodies side by side along x, each of its "
            "own material, the load at the right end of the last: the wave fronts traced through every interface "
@@ -351,7 +351,11 @@ RCP<const ParameterList> validParameters() {
            "sin(omega t), omega = pi sqrt(E / rho0) / L, on a square (cube) neo-Hookean Body of side L with rollers "
            "on every face, driven by a Load of Type = Manufactured Body Force and started by Initial Conditions/Type "
            "= Manufactured Solution (physics/ManufacturedSolution.hpp); every displacement, velocity and stress, "
-           "and the whole displacement field (summary.yaml: Displacement Field Error)");
+           "and the whole displacement field (summary.yaml: Displacement Field Error); "
+           "Cantilever End Load: the elastica of the body clamped at X Min (a Face x- constraint, xy) under the "
+           "dead end load that is the sum of the deck's loads (Particle Forces along y at X Max, one time function), "
+           "quasi-static at k f(t), k = P L^2 / (Modulus I) (physics/ElasticaExact.hpp; displacement X and Y, the "
+           "cross-section rotating rigidly with the centreline)");
     choice(p, "Modulus", "Plane Condition", {"Plane Condition", "Young Modulus"},
            "modulus of the exact solution: Plane Condition = E in plane stress, E/(1-nu^2) in plane strain");
     p.set("Load", "", "name of the load (in Loads) that the exact solution is driven by (not used by Bar Standing Wave)");

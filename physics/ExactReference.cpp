@@ -9,6 +9,7 @@
 #include "core/InputDeck.hpp"
 #include "physics/BeamTheories.hpp"
 #include "physics/ColumnExact.hpp"
+#include "physics/ElasticaExact.hpp"
 #include "physics/ExactSolutions.hpp"
 #include "physics/LayeredBarExact.hpp"
 
@@ -313,6 +314,64 @@ class AxisAlignedManufacturedReference : public ExactReference {
   AxisAlignedManufactured field_;
 };
 
+// The cantilever under a dead end load, quasi-static: the elastica (physics/ElasticaExact.hpp) at
+// the load parameter k f(t), f the named load's time function. The beam is the body, clamped at
+// its X Min, centreline at mid-height; the end load is the sum of the deck's loads, all Particle
+// Forces along y near X Max sharing one time function (the end section's load may be split over
+// particles placed symmetrically about the centreline). A particle at distance eta from the
+// centreline moves with the plane cross-section (Euler-Bernoulli kinematics).
+class CantileverEndLoad : public ExactReference {
+ public:
+  CantileverEndLoad(const ParameterList& e, const ExactContext& c) {
+    const BodySpec& b = exactBody(e, c);
+    const LoadSpec& named = exactLoad(e, c);
+    const RectangularBody& r = b.rect;
+    if (c.dimension != 2)
+      throw DeckError("'Exact Solution/Type' = Cantilever End Load is the 2D beam (Grid/Dimension = 2)");
+    double force = 0;
+    for (const auto& s : c.loads) {
+      if (s.type != "Particle Force" || s.forceX != 0 || s.forceY == 0 || std::abs(s.x - r.xMax) > 0.05 * r.length() ||
+          s.time.kind != named.time.kind || s.time.rampTime != named.time.rampTime || s.time.startTime != named.time.startTime)
+        throw DeckError("'Exact Solution/Type' = Cantilever End Load needs every load to be a Particle Force with Force Y "
+                        "only, at the free end (X near the body's X Max = " + formatNumber(r.xMax) +
+                        ") and with the time function of '" + named.name + "': 'Loads/" + s.name + "' is not");
+      force += s.forceY;
+    }
+    bool clamped = false;
+    for (const auto& s : c.constraints)
+      clamped = clamped || (s.where == "Face" && s.face == "x-" && s.fixX && s.fixY && s.body.xMin == r.xMin);
+    if (!clamped)
+      throw DeckError("'Exact Solution/Type' = Cantilever End Load needs the beam clamped at X Min: a constraint with "
+                      "Where = Face, Face = x-, Components = xy on 'Bodies/" + b.name + "'");
+    modulus_ = modulusFor(e, c, b.material);
+    const double I = c.width(r) * std::pow(r.height(), 3) / 12.0;
+    length_ = r.length();
+    xMin_ = r.xMin;
+    yCentre_ = 0.5 * (r.yMin + r.yMax);
+    down_ = force < 0 ? 1.0 : -1.0;
+    k_ = std::abs(force) * length_ * length_ / (modulus_ * I);
+    time_ = named.time;
+  }
+  std::string type() const override { return "Cantilever End Load"; }
+  double value(const std::string& q, double x0, double y0, double t) const override {
+    if (q != "Displacement X" && q != "Displacement Y") return kNaN;
+    const double s = std::clamp((x0 - xMin_) / length_, 0.0, 1.0), eta = y0 - yCentre_;
+    const CantileverElastica::Point p = CantileverElastica(k_ * time_(t)).at(s);
+    if (q == "Displacement X") return -p.u * length_ + down_ * eta * std::sin(p.theta);
+    return -down_ * p.w * length_ + eta * (std::cos(p.theta) - 1.0);
+  }
+  void addSummary(ParameterList& s) const override {
+    const CantileverElastica::Point tip = CantileverElastica(k_).tip();
+    s.set("Exact Load Parameter", k_);
+    s.set("Exact Tip Displacement X", -tip.u * length_);
+    s.set("Exact Tip Displacement Y", -down_ * tip.w * length_);
+  }
+
+ private:
+  double k_ = 0, length_ = 1, xMin_ = 0, yCentre_ = 0, down_ = 1;
+  TimeFunction time_{};
+};
+
 }  // namespace
 
 std::unique_ptr<ExactReference> makeExactReference(const ParameterList& e, const ExactContext& c) {
@@ -325,6 +384,7 @@ std::unique_ptr<ExactReference> makeExactReference(const ParameterList& e, const
   if (type == "Layered Bar Step Load") return std::make_unique<LayeredBar>(e, c);
   if (type == "Column Under Self-Weight") return std::make_unique<SelfWeightColumn>(e, c);
   if (type == "Axis-Aligned Manufactured Solution") return std::make_unique<AxisAlignedManufacturedReference>(e, c);
+  if (type == "Cantilever End Load") return std::make_unique<CantileverEndLoad>(e, c);
   return nullptr;
 }
 
