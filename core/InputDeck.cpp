@@ -245,11 +245,12 @@ RCP<const ParameterList> validParameters() {
                  "a later body replaces the particles of earlier ones inside its shape").disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Method", false, "spatial discretisation");
-    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "cpGIMP", "B-Spline Quadratic", "FE Q4", "FE Q9"},
+    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "cpGIMP", "B-Spline Quadratic", "B-Spline Cubic", "FE Q4", "FE Q9"},
            "MPM: linear tent at particle points; GIMP: uniform GIMP; cpGIMP: GIMP with the particle domain "
            "stretched by the diagonal of F (capped at half a cell), for large deformation; B-Spline Quadratic: C1 "
            "quadratic B-splines at particle points (3 nodes per direction, Steffen et al.'s boundary splines at the "
-           "grid edge; at least 2 cells per direction); FE Q4 / FE Q9: the finite-element "
+           "grid edge; at least 2 cells per direction); B-Spline Cubic: C2 cubic B-splines at particle points (4 nodes "
+           "per direction, Steffen et al.'s modified edge splines; at least 3 cells per direction); FE Q4 / FE Q9: the finite-element "
            "reference on the same kernels, particles fixed at the Gauss points (Q4: bilinear, 2 x 2 per cell; "
            "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
            "only, Rectangle bodies only; Particles Per Cell is not used. In 3D FE Q4 is the trilinear Hex8 "

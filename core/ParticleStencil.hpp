@@ -1,6 +1,6 @@
 // The nodes a particle talks to, with tensor-product weights and gradient weights in Dim = 2
 // or 3 dimensions, computed from a 1D shape-function trait (LinearMpm, UniformGimp,
-// QuadraticLagrange or QuadraticBSpline).
+// QuadraticLagrange, QuadraticBSpline or CubicBSpline).
 #pragma once
 
 #include "core/ShapeFunctions.hpp"

@@ -171,4 +171,72 @@ struct QuadraticBSpline {
   }
 };
 
+
+// Cubic B-spline MPM (Steffen, Kirby & Berzins 2008, IJNME 76; de Vaucorbeil, Nguyen, Sinaie & Wu
+// 2020, Adv. Appl. Mech. 53, their "modified cubic B-splines"): the particle is a point and node
+// i's function is the uniform C2 cubic B-spline with knots at the grid nodes, support |r| < 2 h:
+// with s = |r| / h, 2/3 - s^2 + s^3/2 for s < 1, (2 - s)^3 / 6 for s < 2. Always 4 nodes per
+// direction: the particle's cell's two nodes and one more either side.
+// Grid edge: nodes -1 and n + 1 are missing. Their B-splines are folded into the two nodes next
+// to the edge so that constants and linears stay in the space, B_0 + 2 B_-1 and B_1 - B_-1 (at
+// the far edge B_n + 2 B_n+1 and B_n-1 - B_n+1), which changes the edge cell only: there, with
+// t = x / h from the edge, the edge node's function is 1 - t + t^3/6 and its neighbour's
+// 2/3 - (1 - t)^2 + (1 - t)^3/3 (the paper's boundary functions). This is the natural spline
+// space (second derivative zero on the grid's edge lines: the control points' second difference
+// vanishes there), chosen over an open knot vector because it keeps one function per grid node
+// (an open knot vector has n + 3), keeps C2 everywhere, and every function stays non-negative;
+// it interpolates at the edge nodes (only the edge node is non-zero on the edge line), so a
+// support or load there acts at the point, and a free or simply supported edge has no moment
+// (w'' = 0) anyway.
+// What holds on the whole grid [0, n h], edge cells included: sum_i S_i = 1, sum_i dS_i = 0,
+// sum_i S_i x_i = x_p and sum_i dS_i x_i = 1; every S_i is C2 (no jump in the gradient or in its
+// derivative when a particle crosses a cell line). Quadratics are not reproduced (inside,
+// sum_i S_i x_i^2 = x_p^2 + h^2/3). Needs at least 3 cells per direction (4 nodes).
+struct CubicBSpline {
+  static constexpr int max_nodes_1d = 4;
+  static constexpr bool fixed_count = true;
+  static constexpr const char* name = "B-Spline Cubic";
+
+  // The uniform cubic B-spline and its derivative in r.
+  KOKKOS_INLINE_FUNCTION static double uniform(double r, double h) {
+    const double s = (r < 0 ? -r : r) / h;
+    if (s < 1.0) return 2.0 / 3.0 - s * s + 0.5 * s * s * s;
+    if (s < 2.0) return (2.0 - s) * (2.0 - s) * (2.0 - s) / 6.0;
+    return 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION static double uniformGradient(double r, double h) {
+    const double s = (r < 0 ? -r : r) / h;
+    const double sign = r < 0 ? -1.0 : 1.0;
+    if (s < 1.0) return sign * (1.5 * s - 2.0) * s / h;
+    if (s < 2.0) return -sign * 0.5 * (2.0 - s) * (2.0 - s) / h;
+    return 0.0;
+  }
+  // The missing node's spline that node `node` takes in (weight 2 for the edge node, -1 for its
+  // neighbour), as an offset in cells from `node` to the missing node; 0: none.
+  KOKKOS_INLINE_FUNCTION static int edgeFold(int node, int cells, double& factor) {
+    factor = node == 0 || node == cells ? 2.0 : -1.0;
+    if (node == 0) return -1;
+    if (node == 1) return -2;
+    if (node == cells) return 1;
+    if (node == cells - 1) return 2;
+    return 0;
+  }
+  KOKKOS_INLINE_FUNCTION static double value(double r, double h, double /*l*/, int node, int cells) {
+    double factor;
+    const int fold = edgeFold(node, cells, factor);
+    return fold == 0 ? uniform(r, h) : uniform(r, h) + factor * uniform(r - fold * h, h);
+  }
+  KOKKOS_INLINE_FUNCTION static double gradient(double r, double h, double /*l*/, int node, int cells) {
+    double factor;
+    const int fold = edgeFold(node, cells, factor);
+    return fold == 0 ? uniformGradient(r, h) : uniformGradient(r, h) + factor * uniformGradient(r - fold * h, h);
+  }
+  // The nodes of the cell holding xi and one more either side (ParticleStencil keeps them
+  // inside the grid; the extra node there has weight 0).
+  KOKKOS_INLINE_FUNCTION static void range(double xi, double /*l_over_h*/, int& first, int& count) {
+    first = floorToInt(xi) - 1;
+    count = 4;
+  }
+};
+
 }  // namespace impm

@@ -152,5 +152,7 @@ template class ExplicitStepper<UniformGimp, 3>;
 template class ExplicitStepper<ConvectedGimp, 2>;
 template class ExplicitStepper<ConvectedGimp, 3>;
 template class ExplicitStepper<QuadraticBSpline, 3>;
+template class ExplicitStepper<CubicBSpline, 2>;
+template class ExplicitStepper<CubicBSpline, 3>;
 
 }  // namespace impm

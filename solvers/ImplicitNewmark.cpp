@@ -665,5 +665,7 @@ template class ImplicitNewmark<ConvectedGimp, 2>;
 template class ImplicitNewmark<ConvectedGimp, 3>;
 template class ImplicitNewmark<QuadraticLagrange, 3>;
 template class ImplicitNewmark<QuadraticBSpline, 3>;
+template class ImplicitNewmark<CubicBSpline, 2>;
+template class ImplicitNewmark<CubicBSpline, 3>;
 
 }  // namespace impm

@@ -145,7 +145,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   // per owned free dof for the mass diagonal.
   std::vector<size_t> blockOffsets_, diagOffsets_;
   // Blocks of the assembled stiffness: nodes per direction and spacing of their first nodes
-  // (cells: 2 and 1; Q9 elements: 3 and 2; GIMP and B-spline stencils: 3 and 1).
+  // (cells: 2 and 1; Q9 elements: 3 and 2; GIMP and quadratic B-spline stencils: 3 and 1; cubic B-splines: 4 and 1).
   int blockNodes_ = 2, blockStride_ = 1;
   bool seedGimpStiffness_ = false;  // the seed's overlap-integrated K (GIMP only)
   Teuchos::RCP<MultiVector> gridKinematics_;  // fixed particles: grid v, a at the end of the last step

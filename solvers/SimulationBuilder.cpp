@@ -289,6 +289,10 @@ void Simulation::buildMaterialsAndBodies() {
     throw DeckError("'Method/Shape Function' = B-Spline Quadratic needs at least 2 cells per direction (a stencil spans 3 "
                     "nodes), got " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
                     (grid_.dim == 3 ? " x " + std::to_string(grid_.nz) : std::string()) + " cells");
+  if (shape_ == "B-Spline Cubic" && (grid_.nx < 3 || grid_.ny < 3 || (grid_.dim == 3 && grid_.nz < 3)))
+    throw DeckError("'Method/Shape Function' = B-Spline Cubic needs at least 3 cells per direction (a stencil spans 4 "
+                    "nodes), got " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
+                    (grid_.dim == 3 ? " x " + std::to_string(grid_.nz) : std::string()) + " cells");
   if (shape_ == "FE Q9" && grid_.dim == 3 && grid_.nz % 2)
     throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " + std::to_string(grid_.nz));
   if (shape_ == "FE Q9" && (grid_.nx % 2 || grid_.ny % 2))
@@ -445,10 +449,12 @@ void Simulation::checkProblemSize(bool implicit) const {
   const int ranks = comm_->getSize();
   // The implicit figures were measured in 2D; in 3D a node's matrix row couples dim / 2 times
   // more components with (reach)^3 / (reach)^2 more nodes (reach 3 cells for MPM and FE Q4, 5
-  // for GIMP, cpGIMP, B-splines and FE Q9), and each particle's dense stiffness block holds (dim x nodes)^2
-  // values (24^2 for MPM, 81^2 for GIMP, B-splines and Hex27; the 2D constants include their blocks).
+  // for GIMP, cpGIMP, quadratic B-splines and FE Q9, 7 for cubic B-splines), and each particle's dense
+  // stiffness block holds (dim x nodes)^2 values (24^2 for MPM, 81^2 for GIMP, quadratic B-splines and
+  // Hex27, 192^2 for cubic B-splines; the 2D constants include their blocks).
   const bool wide = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "B-Spline Quadratic" || shape_ == "FE Q9";
-  const double reach = wide ? 5.0 : 3.0, blockNodes = wide ? 3.0 : 2.0;
+  const bool cubic = shape_ == "B-Spline Cubic";
+  const double reach = cubic ? 7.0 : wide ? 5.0 : 3.0, blockNodes = cubic ? 4.0 : wide ? 3.0 : 2.0;
   const double activeScale = solid ? 1.5 * 1.5 * reach : 1.0;
   const double blockBytesPerParticle = implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
   const double gridBytes =
@@ -476,8 +482,8 @@ void Simulation::checkNodeReached(const std::string& key, const Point& point) co
   for (int d = 0; d < grid_.dim; ++d)
     node[d] = grid_.origin(d) + grid_.spacing(d) * std::lround((point[d] - grid_.origin(d)) / grid_.spacing(d));
   // A node's shape function reaches one cell (FE Q9: one element of two cells; quadratic
-  // B-splines: 1.5 cells), plus the particle's half size with GIMP.
-  const double span = shape_ == "FE Q9" ? 2.0 : shape_ == "B-Spline Quadratic" ? 1.5 : 1.0;
+  // B-splines: 1.5 cells; cubic: 2), plus the particle's half size with GIMP.
+  const double span = shape_ == "FE Q9" || shape_ == "B-Spline Cubic" ? 2.0 : shape_ == "B-Spline Quadratic" ? 1.5 : 1.0;
   const double reach[3] = {span * grid_.hx, span * grid_.hy, span * grid_.hz};
   const double domain = shape_ == "GIMP" || shape_ == "cpGIMP" ? 1.0 : 0.0;
   auto px = particles_.x;
@@ -666,6 +672,7 @@ void Simulation::buildIntegrator() {
   }
 
   const bool gimp = shape_ == "GIMP", cpgimp = shape_ == "cpGIMP", bspline = shape_ == "B-Spline Quadratic",
+             cubicBspline = shape_ == "B-Spline Cubic",
              fe = shape_ == "FE Q4" || shape_ == "FE Q9";
   if (fe && integratorType != "Implicit")
     throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
@@ -713,6 +720,8 @@ void Simulation::buildIntegrator() {
       if (cpgimp) return std::make_unique<ImplicitNewmark<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (bspline)
         return std::make_unique<ImplicitNewmark<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      if (cubicBspline)
+        return std::make_unique<ImplicitNewmark<CubicBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (shape_ == "FE Q9")
         return std::make_unique<ImplicitNewmark<QuadraticLagrange, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       return std::make_unique<ImplicitNewmark<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
@@ -729,6 +738,8 @@ void Simulation::buildIntegrator() {
       if (cpgimp) return std::make_unique<ExplicitStepper<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       if (bspline)
         return std::make_unique<ExplicitStepper<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+      if (cubicBspline)
+        return std::make_unique<ExplicitStepper<CubicBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       return std::make_unique<ExplicitStepper<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
     };
     integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});

@@ -139,6 +139,9 @@ expect_failure(z_face_2d "      Face: x-" "      Face: z-" "'Constraints/fixed e
 # Quadratic B-splines on the seed bar's single cell through the depth (a stencil spans 3 nodes).
 expect_failure(bspline_one_cell "    Shape Function: MPM" "    Shape Function: B-Spline Quadratic"
                "'Method/Shape Function' = B-Spline Quadratic needs at least 2 cells per direction")
+# Cubic B-splines likewise (a stencil spans 4 nodes: at least 3 cells per direction).
+expect_failure(cubic_bspline_one_cell "    Shape Function: MPM" "    Shape Function: B-Spline Cubic"
+               "'Method/Shape Function' = B-Spline Cubic needs at least 3 cells per direction")
 expect_failure(z_key_2d "Cells Y: 1" "Cells Y: 1\n    Cells Z: 4" "'Grid/Cells Z' is a 3D key")
 expect_failure(z_force_2d "      Force X: 1.0" "      Force X: 1.0\n      Force Z: 1.0" "'Loads/end force/Force Z'")
 

@@ -119,6 +119,18 @@ TEUCHOS_UNIT_TEST(Implicit, BSplineAssembledIsTheJacobian) {
   TEST_COMPARE(jacobianMismatch<QuadraticBSpline>(2, consistent, Placement::Lattice, out), <, 1e-5);
 }
 
+// Cubic B-splines: 4 x 4 node blocks at stride 1 hold the exact Jacobian likewise, on 3 and 4
+// cells through the depth (with 3, every cell is an edge cell in y, and the folded edge functions
+// of both edges meet in the middle node rows), lumped and consistent mass.
+TEUCHOS_UNIT_TEST(Implicit, CubicBSplineAssembledIsTheJacobian) {
+  ImplicitOptions lumped;
+  TEST_COMPARE(jacobianMismatch<CubicBSpline>(3, lumped, Placement::Lattice, out), <, 1e-5);
+  TEST_COMPARE(jacobianMismatch<CubicBSpline>(4, lumped, Placement::Lattice, out), <, 1e-5);
+  ImplicitOptions consistent;
+  consistent.consistentMass = true;
+  TEST_COMPARE(jacobianMismatch<CubicBSpline>(3, consistent, Placement::Lattice, out), <, 1e-5);
+}
+
 // FE Q9 with the consistent mass: P holds stiffness and consistent mass over the elements.
 TEUCHOS_UNIT_TEST(Implicit, FeQ9AssembledIsTheJacobian) {
   ImplicitOptions fe;

@@ -1,6 +1,7 @@
 // Shape-function traits: partition of unity, zero gradient sum, and the uGIMP weights and
 // gradient weights against numerical quadrature of the particle characteristic function;
-// quadratic B-splines up to the grid edge (partition of unity, linear completeness, C1).
+// quadratic and cubic B-splines up to the grid edge (partition of unity, linear completeness,
+// C1 and C2).
 #include <Teuchos_UnitTestHarness.hpp>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 
 namespace {
 
+using impm::CubicBSpline;
 using impm::LinearMpm;
 using impm::ParticleStencil;
 using impm::QuadraticBSpline;
@@ -117,24 +119,26 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, UniformGimp3dCompleteness) { checkPartitionOfU
 TEUCHOS_UNIT_TEST(ShapeFunctions, Hex27Completeness) { checkPartitionOfUnity3d<impm::QuadraticLagrange>(out, success); }
 TEUCHOS_UNIT_TEST(ShapeFunctions, BSpline3dCompletenessUpToTheEdge) { checkPartitionOfUnity3d<QuadraticBSpline>(out, success, true); }
 
-// Quadratic B-splines in 2D at positions sweeping the whole grid in x (edge cells, grid lines and
-// half-cell lines included) at y on the edges, their half-cell lines and inside: 3 x 3 nodes,
-// non-negative weights, sum S = 1, sum grad S = 0, sum S x_i = x_p, sum S y_i = y_p and
-// sum grad_j S x_i,k = delta_jk.
-TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineCompletenessUpToTheEdge) {
+// B-splines in 2D at positions sweeping the whole grid in x (edge cells, grid lines and half-cell
+// lines included) at y on the edges, their half-cell lines and inside: N x N nodes (3 quadratic,
+// 4 cubic) inside the grid, non-negative weights, sum S = 1, sum grad S = 0, sum S x_i = x_p,
+// sum S y_i = y_p and sum grad_j S x_i,k = delta_jk.
+template <class Shape>
+void checkSplineCompletenessUpToTheEdge(Teuchos::FancyOStream& out, bool& success) {
+  constexpr int N = Shape::max_nodes_1d;
   const StructuredGrid g = testGrid();
   const int perCell = 40;
   int visited = 0;
   for (int ix = 0; ix <= perCell * g.nx; ++ix)
     for (double fy : {0.0, 0.2, 0.5, 1.0, 4.37, g.ny - 1.0, g.ny - 0.5, g.ny - 0.1, 1.0 * g.ny}) {
       const double x = g.x0 + ix * g.hx / perCell, y = g.y0 + fy * g.hy;
-      const ParticleStencil<QuadraticBSpline> st(g, x, y, 0.0, 0.0);
-      TEST_EQUALITY_CONST(st.countX(), 3);
-      TEST_EQUALITY_CONST(st.countY(), 3);
-      TEST_ASSERT(st.first[0] >= 0 && st.first[0] + 2 <= g.nx && st.first[1] >= 0 && st.first[1] + 2 <= g.ny);
+      const ParticleStencil<Shape> st(g, x, y, 0.0, 0.0);
+      TEST_EQUALITY_CONST(st.countX(), N);
+      TEST_EQUALITY_CONST(st.countY(), N);
+      TEST_ASSERT(st.first[0] >= 0 && st.first[0] + N - 1 <= g.nx && st.first[1] >= 0 && st.first[1] + N - 1 <= g.ny);
       double sum = 0, gx = 0, gy = 0, mx = 0, my = 0, dxx = 0, dxy = 0, dyx = 0, dyy = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
+      for (int a = 0; a < N; ++a)
+        for (int b = 0; b < N; ++b) {
           const double xi = g.nodeX(st.first[0] + a), yi = g.y0 + (st.first[1] + b) * g.hy;
           TEST_COMPARE(st.weight(a, b), >=, 0.0);
           sum += st.weight(a, b);
@@ -161,48 +165,113 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineCompletenessUpToTheEdge) {
   TEST_EQUALITY(visited, (perCell * g.nx + 1) * 9);
 }
 
-// The 1D B-spline weights of every node are C1 in the particle position over the whole grid
-// (no jump in weight or gradient at cell lines, half-cell lines or where the edge tents join),
-// the gradient weight is the derivative of the weight, and inside the grid a particle on a node
-// gives it 3/4 and each neighbour 1/8; on the edge node it takes all the weight.
-TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineIsC1UpToTheEdge) {
-  const StructuredGrid g = testGrid();
-  const double h = g.hx, eps = 1e-7 * h, y = g.y0 + 3.3 * g.hy;
+TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineCompletenessUpToTheEdge) { checkSplineCompletenessUpToTheEdge<QuadraticBSpline>(out, success); }
+TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSplineCompletenessUpToTheEdge) { checkSplineCompletenessUpToTheEdge<CubicBSpline>(out, success); }
+TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSpline3dCompletenessUpToTheEdge) { checkPartitionOfUnity3d<CubicBSpline>(out, success, true); }
+
+// Jumps of a B-spline's 1D weights over the whole grid at every cell line, half-cell line and
+// quarter-cell line: in the weight, in h x its gradient weight and in h^2 x the gradient
+// weight's one-sided derivatives (left and right of the line, over 1e-5 h); and how far the gradient weight
+// is from the finite difference of the weight.
+struct SplineJumps {
+  double value = 0, gradient = 0, curvature = 0, derivative = 0;
+};
+template <class Shape>
+SplineJumps splineJumps(const StructuredGrid& g) {
+  constexpr int N = Shape::max_nodes_1d;
+  const double h = g.hx, eps = 1e-7 * h, step = 1e-5 * h, y = g.y0 + 3.3 * g.hy;
   // Weight and gradient weight of grid node i for a particle at x (0 off the stencil).
   auto weightOf = [&](int i, double x, double& w, double& gr) {
-    const ParticleStencil<QuadraticBSpline> st(g, x, y, 0.0, 0.0);
+    const ParticleStencil<Shape> st(g, x, y, 0.0, 0.0);
     w = gr = 0;
     const int a = i - st.first[0];
-    if (a < 0 || a > 2) return;
-    const double wy = st.w[1][0] + st.w[1][1] + st.w[1][2];  // 1 (partition of unity in y)
+    if (a < 0 || a >= N) return;
+    double wy = 0;  // 1 (partition of unity in y)
+    for (int b = 0; b < N; ++b) wy += st.w[1][b];
     w = st.w[0][a] * wy;
     gr = st.g[0][a] * wy;
   };
-  double worstJump = 0, worstDerivative = 0;
+  SplineJumps j;
   for (int i = 0; i <= g.nx; ++i)
     for (int q = 1; q < 40 * g.nx; ++q) {
       const double x = g.x0 + q * h / 40;  // hits every cell line and half-cell line
-      double wm, gm, wp, gp, w, gr;
+      double wm, gm, wp, gp, w, gr, wmm, gmm, wpp, gpp;
       weightOf(i, x - eps, wm, gm);
       weightOf(i, x + eps, wp, gp);
       weightOf(i, x, w, gr);
-      worstJump = std::max({worstJump, std::abs(wp - wm), std::abs(gp - gm) * h});
-      worstDerivative = std::max(worstDerivative, std::abs((wp - wm) / (2 * eps) - gr) * h);
+      weightOf(i, x - step, wmm, gmm);
+      weightOf(i, x + step, wpp, gpp);
+      j.value = std::max(j.value, std::abs(wp - wm));
+      j.gradient = std::max(j.gradient, std::abs(gp - gm) * h);
+      j.curvature = std::max(j.curvature, std::abs((gpp - gr) / step - (gr - gmm) / step) * h * h);
+      j.derivative = std::max(j.derivative, std::abs((wp - wm) / (2 * eps) - gr) * h);
     }
-  out << "B-spline: max jump over 2e-7 h: " << worstJump << " (w, h grad w); max |FD - grad| h: " << worstDerivative << "\n";
-  TEST_COMPARE(worstJump, <, 1e-6);
-  TEST_COMPARE(worstDerivative, <, 1e-6);
-  double w, gr;
-  weightOf(5, g.nodeX(5), w, gr);
-  TEST_FLOATING_EQUALITY(w, 0.75, 1e-14);
-  weightOf(4, g.nodeX(5), w, gr);
-  TEST_FLOATING_EQUALITY(w, 0.125, 1e-14);
-  weightOf(6, g.nodeX(5), w, gr);
-  TEST_FLOATING_EQUALITY(w, 0.125, 1e-14);
-  weightOf(0, g.x0, w, gr);
-  TEST_FLOATING_EQUALITY(w, 1.0, 1e-14);
-  weightOf(g.nx, g.xMax(), w, gr);
-  TEST_FLOATING_EQUALITY(w, 1.0, 1e-14);
+  return j;
+}
+
+// The 1D quadratic B-spline weights of every node are C1 in the particle position over the whole
+// grid (no jump in weight or gradient at cell lines, half-cell lines or where the edge tents
+// join), the gradient weight is the derivative of the weight, and inside the grid a particle on
+// a node gives it 3/4 and each neighbour 1/8; on the edge node it takes all the weight. They are
+// not C2: the second derivative jumps by 3/h^2 where pieces meet (the curvature check sees it).
+TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineIsC1UpToTheEdge) {
+  const StructuredGrid g = testGrid();
+  const SplineJumps j = splineJumps<QuadraticBSpline>(g);
+  out << "B-spline: max jump over 2e-7 h: " << std::max(j.value, j.gradient) << " (w, h grad w); max |FD - grad| h: "
+      << j.derivative << "; max jump of h^2 w'': " << j.curvature << "\n";
+  TEST_COMPARE(j.value, <, 1e-6);
+  TEST_COMPARE(j.gradient, <, 1e-6);
+  TEST_COMPARE(j.derivative, <, 1e-6);
+  TEST_COMPARE(j.curvature, >, 1.0);
+  auto weight = [&](int i, double x) {
+    const ParticleStencil<QuadraticBSpline> st(g, x, g.y0 + 3.3 * g.hy, 0.0, 0.0);
+    return st.w[0][i - st.first[0]];
+  };
+  TEST_FLOATING_EQUALITY(weight(5, g.nodeX(5)), 0.75, 1e-14);
+  TEST_FLOATING_EQUALITY(weight(4, g.nodeX(5)), 0.125, 1e-14);
+  TEST_FLOATING_EQUALITY(weight(6, g.nodeX(5)), 0.125, 1e-14);
+  TEST_FLOATING_EQUALITY(weight(0, g.x0), 1.0, 1e-14);
+  TEST_FLOATING_EQUALITY(weight(g.nx, g.xMax()), 1.0, 1e-14);
+}
+
+// Cubic B-splines are C2 over the whole grid, edge cells included (the folded edge functions
+// join the uniform ones with matching second derivatives one cell from the edge): the one-sided
+// second derivatives, by differences over 1e-4 h, agree to O(1e-4) where the quadratic ones jump
+// by 3. A particle on an inner node gives it 2/3 and each neighbour 1/6; on the edge node it
+// gives that node all its weight (the spline interpolates there), and a third of the way into
+// the edge cell the edge node has the paper's 1 - t + t^3/6. Inside, sum S x_i^2 = x_p^2 + h^2/3
+// (quadratics are not reproduced).
+TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSplineIsC2UpToTheEdge) {
+  const StructuredGrid g = testGrid();
+  const SplineJumps j = splineJumps<CubicBSpline>(g);
+  out << "cubic B-spline: max jump over 2e-7 h: " << std::max(j.value, j.gradient) << " (w, h grad w); max |FD - grad| h: "
+      << j.derivative << "; max jump of h^2 w'': " << j.curvature << "\n";
+  TEST_COMPARE(j.value, <, 1e-6);
+  TEST_COMPARE(j.gradient, <, 1e-6);
+  TEST_COMPARE(j.derivative, <, 1e-6);
+  TEST_COMPARE(j.curvature, <, 1e-3);
+  auto weight = [&](int i, double x) {
+    const ParticleStencil<CubicBSpline> st(g, x, g.y0 + 3.3 * g.hy, 0.0, 0.0);
+    const int a = i - st.first[0];
+    return a >= 0 && a < 4 ? st.w[0][a] : 0.0;
+  };
+  TEST_FLOATING_EQUALITY(weight(5, g.nodeX(5)), 2.0 / 3.0, 1e-14);
+  TEST_FLOATING_EQUALITY(weight(4, g.nodeX(5)), 1.0 / 6.0, 1e-14);
+  TEST_FLOATING_EQUALITY(weight(6, g.nodeX(5)), 1.0 / 6.0, 1e-14);
+  for (int i : {0, g.nx}) {
+    const double edge = g.nodeX(i), inward = i == 0 ? 1.0 : -1.0;
+    TEST_FLOATING_EQUALITY(weight(i, edge), 1.0, 1e-14);
+    TEST_COMPARE(std::abs(weight(i + (int)inward, edge)), <, 1e-15);
+    const double t = 1.0 / 3.0;
+    TEST_FLOATING_EQUALITY(weight(i, edge + inward * t * g.hx), 1.0 - t + t * t * t / 6.0, 1e-13);
+  }
+  for (double fx : {3.0, 4.25, 6.5, 7.9}) {
+    const double x = g.x0 + fx * g.hx;
+    const ParticleStencil<CubicBSpline> st(g, x, g.y0 + 3.3 * g.hy, 0.0, 0.0);
+    double second = 0;
+    for (int a = 0; a < 4; ++a) second += st.w[0][a] * g.nodeX(st.first[0] + a) * g.nodeX(st.first[0] + a);
+    TEST_FLOATING_EQUALITY(second, x * x + g.hx * g.hx / 3.0, 1e-12);
+  }
 }
 
 // S_ip = (1/2l) int_{x_p-l}^{x_p+l} N_i(x) dx and G_ip = (1/2l) int dN_i/dx dx, by a fine

@@ -1,5 +1,5 @@
 // Particle-to-grid-to-particle transfers conserve mass and linear momentum, for every particle
-// shape function (MPM, GIMP, quadratic B-splines) and on any number of MPI ranks (grid sums travel through the Tpetra Import).
+// shape function (MPM, GIMP, quadratic and cubic B-splines) and on any number of MPI ranks (grid sums travel through the Tpetra Import).
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
@@ -129,6 +129,8 @@ TEUCHOS_UNIT_TEST(Transfer, Mpm3dConservesMassAndMomentum) { checkConservation<L
 TEUCHOS_UNIT_TEST(Transfer, Gimp3dConservesMassAndMomentum) { checkConservation<UniformGimp, 3>(out, success); }
 TEUCHOS_UNIT_TEST(Transfer, BSplineConservesMassAndMomentum) { checkConservation<QuadraticBSpline, 2>(out, success); }
 TEUCHOS_UNIT_TEST(Transfer, BSpline3dConservesMassAndMomentum) { checkConservation<QuadraticBSpline, 3>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, CubicBSplineConservesMassAndMomentum) { checkConservation<CubicBSpline, 2>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, CubicBSpline3dConservesMassAndMomentum) { checkConservation<CubicBSpline, 3>(out, success); }
 
 }  // namespace
 
