@@ -129,6 +129,20 @@ TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnCpGimpConverges) {
   }
 }
 
+// CPDI1 (domains carried by the full F) on the same column, against cpGIMP at each resolution.
+TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnCpdiConverges) {
+  const ColumnErrors coarse = runColumn("CPDI", 10, "Neo-Hookean", out);
+  const ColumnErrors medium = runColumn("CPDI", 20, "Neo-Hookean", out);
+  const ColumnErrors fine = runColumn("CPDI", 40, "Neo-Hookean", out);
+  out << "observed orders of the CPDI sigma_yy error: " << std::log(coarse.stressL2 / medium.stressL2) / std::log(2.0)
+      << " (10 -> 20), " << std::log(medium.stressL2 / fine.stressL2) / std::log(2.0) << " (20 -> 40 cells)\n";
+  TEST_COMPARE(std::abs(fine.topSettlement), >, 0.1);
+  TEST_COMPARE(fine.stressL2, <, medium.stressL2);
+  TEST_COMPARE(medium.stressL2, <, coarse.stressL2);
+  TEST_COMPARE(fine.stressL2, <, 0.01);
+  TEST_COMPARE(fine.topRelative, <, 0.005);
+}
+
 TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnFixedDomainsOscillate) {
   // uGIMP and MPM on the same column: fixed domains overlap where the column compacts (uGIMP),
   // and points crossing cell lines give the classic grid-crossing noise (MPM). cpGIMP removes
