@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/CpdiDomainCheck.hpp"
 #include "core/ParticleStencil.hpp"
 
 namespace {
@@ -204,6 +205,39 @@ TEUCHOS_UNIT_TEST(Cpdi, CornersClippedAtTheGridEdge) {
   }
   TEST_COMPARE(worst, <, 1e-12);
   TEST_COMPARE(used, >, 250);
+}
+
+// The run loop's check (core/CpdiDomainCheck.hpp): the particles whose domain needs more than 4
+// nodes in a direction, or reaches beyond the rank's node columns, with the lowest global id.
+TEUCHOS_UNIT_TEST(Cpdi, DomainCheckNamesTheParticle) {
+  const StructuredGrid g = grid3d(2);
+  impm::ParticleSet ps(4, 2);
+  auto x = Kokkos::create_mirror_view(ps.x);
+  auto hs = Kokkos::create_mirror_view(ps.halfSize);
+  auto F = Kokkos::create_mirror_view(ps.F);
+  auto id = Kokkos::create_mirror_view(ps.id);
+  Kokkos::deep_copy(F, ps.F);
+  const double stretch[4] = {1.0, 7.0, 5.0, 1.0};  // particles 1 (capped, +-1.75 cells) and 2 (4 nodes)
+  for (int p = 0; p < 4; ++p) {
+    x(p, 0) = g.x0 + (2.5 + 2 * p) * g.hx;
+    x(p, 1) = g.y0 + 4.5 * g.hy;
+    hs(p, 0) = 0.25 * g.hx;
+    hs(p, 1) = 0.25 * g.hy;
+    F(p, 0, 0) = stretch[p];
+    id(p) = 100 + p;
+  }
+  Kokkos::deep_copy(ps.x, x); Kokkos::deep_copy(ps.halfSize, hs); Kokkos::deep_copy(ps.F, F); Kokkos::deep_copy(ps.id, id);
+  const impm::LocalNodeIndexer all{0, g.nx + 1, g.ny + 1, 1};
+  const auto r = impm::checkCpdiDomains<impm::ExecutionSpace, 2>(g, all, ps);
+  TEST_EQUALITY(r.tooLarge, 1);
+  TEST_EQUALITY(r.outOfReach, 0);
+  TEST_EQUALITY(r.firstId, 101LL);
+  // A rank that maps node columns 0..6 only: particle 2 (corners in cells 5..7, nodes up to 8)
+  // and particle 3 (x in cell 8) are out of its reach.
+  const impm::LocalNodeIndexer slab{0, 7, g.ny + 1, 1};
+  const auto s = impm::checkCpdiDomains<impm::ExecutionSpace, 2>(g, slab, ps);
+  TEST_EQUALITY(s.outOfReach, 2);
+  TEST_EQUALITY(s.firstId, 101LL);
 }
 
 }  // namespace
