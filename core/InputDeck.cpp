@@ -245,9 +245,11 @@ RCP<const ParameterList> validParameters() {
                  "a later body replaces the particles of earlier ones inside its shape").disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Method", false, "spatial discretisation");
-    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "cpGIMP", "B-Spline Quadratic", "B-Spline Cubic", "FE Q4", "FE Q9"},
+    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "cpGIMP", "CPDI", "B-Spline Quadratic", "B-Spline Cubic", "FE Q4", "FE Q9"},
            "MPM: linear tent at particle points; GIMP: uniform GIMP; cpGIMP: GIMP with the particle domain "
-           "stretched by the diagonal of F (capped at half a cell), for large deformation; B-Spline Quadratic: C1 "
+           "stretched by the diagonal of F (capped at half a cell), for large deformation; CPDI: CPDI1 (Sadeghirad et al. "
+           "2011), the domain a parallelogram / parallelepiped carried by the full F, weights averaged over its corners "
+           "(corners within 3 cells per direction); B-Spline Quadratic: C1 "
            "quadratic B-splines at particle points (3 nodes per direction, Steffen et al.'s boundary splines at the "
            "grid edge; at least 2 cells per direction); B-Spline Cubic: C2 cubic B-splines at particle points (4 nodes "
            "per direction, Steffen et al.'s modified edge splines; at least 3 cells per direction); FE Q4 / FE Q9: the finite-element "

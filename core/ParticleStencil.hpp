@@ -1,12 +1,25 @@
 // The nodes a particle talks to, with tensor-product weights and gradient weights in Dim = 2
 // or 3 dimensions, computed from a 1D shape-function trait (LinearMpm, UniformGimp,
-// QuadraticLagrange, QuadraticBSpline or CubicBSpline).
+// QuadraticLagrange, QuadraticBSpline or CubicBSpline). CPDI's stencil is not a tensor product: it is the
+// specialisation in CpdiStencil.hpp (included at the end).
 #pragma once
 
+#include "core/ParticleSet.hpp"
 #include "core/ShapeFunctions.hpp"
 #include "core/StructuredGrid.hpp"
 
 namespace impm {
+
+// What a shape's stencil reads besides position and half size: CPDI the deformation gradient
+// (CpdiStencil.hpp), the others nothing, an empty value, so that their kernels capture and load
+// nothing more. Kernels build a stencil as ParticleStencil(grid, x, halfSize, deformation, p)
+// with deformation = DomainDeformation<Shape, Dim>::of(particles).
+struct NoDomainDeformation {};
+
+template <class Shape, int Dim>
+struct DomainDeformation {
+  static NoDomainDeformation of(const ParticleSet&) { return {}; }
+};
 
 template <class Shape, int Dim = 2>
 struct ParticleStencil {
@@ -29,6 +42,10 @@ struct ParticleStencil {
     if constexpr (Dim == 3)
       build1d(position(p, 2), grid.z0, grid.hz, halfSize(p, 2), grid.nz, first[2], count[2], w[2], g[2]);
   }
+  template <class PositionView, class SizeView>
+  KOKKOS_INLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
+                                         const SizeView& halfSize, NoDomainDeformation, int p)
+      : ParticleStencil(grid, position, halfSize, p) {}
   // From coordinates: (x, y) and half sizes (lx, ly) in 2D.
   KOKKOS_INLINE_FUNCTION
   ParticleStencil(const StructuredGrid& grid, double x, double y, double lx, double ly) {
@@ -134,3 +151,5 @@ struct ParticleStencil {
 };
 
 }  // namespace impm
+
+#include "core/CpdiStencil.hpp"

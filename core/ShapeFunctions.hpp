@@ -83,6 +83,17 @@ struct ConvectedGimp : UniformGimp {
   static constexpr const char* name = "cpGIMP";
 };
 
+// CPDI1 (Sadeghirad, Brannon & Burghardt 2011, IJNME 86): the particle domain is the
+// parallelogram (2D) / parallelepiped (3D) spanned by r_i = F l0_i e_i about x_p, l0 the initial
+// half size (halfSize, which CPDI never changes). The weights average the linear tent over the
+// domain's 2^Dim corners; the stencil is not a tensor product, see CpdiStencil.hpp (the
+// ParticleStencil<Cpdi, Dim> specialisation). Only the trait's constants are used.
+struct Cpdi {
+  static constexpr int max_nodes_1d = 4;  // a domain whose corners lie in at most 3 cells per direction
+  static constexpr bool fixed_count = false;
+  static constexpr const char* name = "CPDI";
+};
+
 // Whether a shape's particle domains follow the deformation (read by the particle update).
 template <class Shape>
 struct ConvectsDomain {

@@ -151,6 +151,8 @@ template class ExplicitStepper<LinearMpm, 3>;
 template class ExplicitStepper<UniformGimp, 3>;
 template class ExplicitStepper<ConvectedGimp, 2>;
 template class ExplicitStepper<ConvectedGimp, 3>;
+template class ExplicitStepper<Cpdi, 2>;
+template class ExplicitStepper<Cpdi, 3>;
 template class ExplicitStepper<QuadraticBSpline, 3>;
 template class ExplicitStepper<CubicBSpline, 2>;
 template class ExplicitStepper<CubicBSpline, 3>;

@@ -502,13 +502,14 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
     const StructuredGrid g = dist_.grid();
     const LocalNodeIndexer ix = dist_.ghostedIndexer();
     auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
+    const auto deformation = DomainDeformation<Shape, Dim>::of(ps_);
     const double dt = dt_;
     const bool consistent = opt_.consistentMass, fixed = opt_.fixedParticles;
     const bool gridIncrement = equilibriumAcceleration();
     const double c1 = 4.0 / (dt * dt), c2 = 4.0 / dt;
     Kokkos::parallel_for(
         "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
-          const ParticleStencil<Shape, Dim> stn(g, x, hs, p);
+          const ParticleStencil<Shape, Dim> stn(g, x, hs, deformation, p);
           using DC = DisplacementColumns<Dim>;
           double u[Dim] = {}, an[Dim] = {}, dv[Dim] = {};
           stn.forEachNode(ix, [&](int n, double w, const double*) {
@@ -663,6 +664,8 @@ template class ImplicitNewmark<LinearMpm, 3>;
 template class ImplicitNewmark<UniformGimp, 3>;
 template class ImplicitNewmark<ConvectedGimp, 2>;
 template class ImplicitNewmark<ConvectedGimp, 3>;
+template class ImplicitNewmark<Cpdi, 2>;
+template class ImplicitNewmark<Cpdi, 3>;
 template class ImplicitNewmark<QuadraticLagrange, 3>;
 template class ImplicitNewmark<QuadraticBSpline, 3>;
 template class ImplicitNewmark<CubicBSpline, 2>;

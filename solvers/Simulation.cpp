@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "core/Collective.hpp"
+#include "core/CpdiDomainCheck.hpp"
 #include "core/InputDeck.hpp"
 #include "core/ParticleMigration.hpp"
 #include "core/output/VtkWriter.hpp"
@@ -59,6 +60,26 @@ void Simulation::checkParticlesInReach(double t) const {
   if (total > 0)
     throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the columns their MPI rank maps at t = " +
                              formatNumber(t) + " s (use a larger grid)");
+  if (shape_ == "CPDI") checkCpdiDomainsInReach(t);
+}
+
+// CPDI domains: at most 4 nodes per direction (CpdiStencil.hpp), inside the rank's node columns.
+void Simulation::checkCpdiDomainsInReach(double t) const {
+  const CpdiDomainReport r = grid_.dim == 3
+                                 ? checkCpdiDomains<ExecutionSpace, 3>(grid_, dist_->ghostedIndexer(), particles_)
+                                 : checkCpdiDomains<ExecutionSpace, 2>(grid_, dist_->ghostedIndexer(), particles_);
+  int local[2] = {r.tooLarge, r.outOfReach}, total[2] = {0, 0};
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 2, local, total);
+  if (total[0] + total[1] == 0) return;
+  const long long mine = r.firstId >= 0 ? r.firstId : std::numeric_limits<long long>::max();
+  long long first = 0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, mine, Teuchos::outArg(first));
+  throw std::runtime_error(
+      "at t = " + formatNumber(t) + " s the CPDI domain of particle " + std::to_string(first) + " (global id) " +
+      (total[0] > 0 ? "spans more than 3 cells in a direction (its corners x_p +- F l0 e_i need more than 4 nodes; " +
+                          std::to_string(total[0]) + " particle(s)); use more particles per cell or a coarser grid"
+                    : "reaches beyond the node columns its MPI rank maps (" + std::to_string(total[1]) +
+                          " particle(s)); use fewer MPI ranks"));
 }
 
 double Simulation::divergenceMeasure() const {

@@ -53,6 +53,7 @@ class Simulation {
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
   void checkParticlesInReach(double t) const;
+  void checkCpdiDomainsInReach(double t) const;
   // Over all ranks, the largest |stress| / c11 of a particle (its strain), +inf when a
   // particle's velocity or stress is not finite. One reduction.
   double divergenceMeasure() const;

@@ -153,7 +153,9 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   checkProblemSize(in.get<std::string>("Type") == "Implicit");
 
   std::vector<ConstraintSpec> cspecs = buildConstraints();
-  dist_ = std::make_unique<GridDistribution>(grid_, comm_);
+  // A CPDI domain's corners may lie in 3 cells per direction: its stencil reaches 2 cells beyond
+  // the particle's own (Cpdi::max_nodes_1d), one column more than the other shapes.
+  dist_ = std::make_unique<GridDistribution>(grid_, comm_, shape_ == "CPDI" ? 3 : 2);
   try {
     particles_ = createParticles(bodies_, materials_, *dist_, placement_, thickness_);
     if (materials_.anyHistory()) particles_.allocateHistory();
@@ -449,12 +451,12 @@ void Simulation::checkProblemSize(bool implicit) const {
   const int ranks = comm_->getSize();
   // The implicit figures were measured in 2D; in 3D a node's matrix row couples dim / 2 times
   // more components with (reach)^3 / (reach)^2 more nodes (reach 3 cells for MPM and FE Q4, 5
-  // for GIMP, cpGIMP, quadratic B-splines and FE Q9, 7 for cubic B-splines), and each particle's dense
-  // stiffness block holds (dim x nodes)^2 values (24^2 for MPM, 81^2 for GIMP, quadratic B-splines and
-  // Hex27, 192^2 for cubic B-splines; the 2D constants include their blocks).
+  // for GIMP, cpGIMP, quadratic B-splines and FE Q9, 7 for cubic B-splines and CPDI), and each particle's
+  // dense stiffness block holds (dim x nodes)^2 values (24^2 for MPM, 81^2 for GIMP, quadratic B-splines
+  // and Hex27, 192^2 for cubic B-splines and CPDI, 4 nodes per direction; the 2D constants include their blocks).
   const bool wide = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "B-Spline Quadratic" || shape_ == "FE Q9";
-  const bool cubic = shape_ == "B-Spline Cubic";
-  const double reach = cubic ? 7.0 : wide ? 5.0 : 3.0, blockNodes = cubic ? 4.0 : wide ? 3.0 : 2.0;
+  const bool fourNodes = shape_ == "B-Spline Cubic" || shape_ == "CPDI";
+  const double reach = fourNodes ? 7.0 : wide ? 5.0 : 3.0, blockNodes = fourNodes ? 4.0 : wide ? 3.0 : 2.0;
   const double activeScale = solid ? 1.5 * 1.5 * reach : 1.0;
   const double blockBytesPerParticle = implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
   const double gridBytes =
@@ -485,7 +487,7 @@ void Simulation::checkNodeReached(const std::string& key, const Point& point) co
   // B-splines: 1.5 cells; cubic: 2), plus the particle's half size with GIMP.
   const double span = shape_ == "FE Q9" || shape_ == "B-Spline Cubic" ? 2.0 : shape_ == "B-Spline Quadratic" ? 1.5 : 1.0;
   const double reach[3] = {span * grid_.hx, span * grid_.hy, span * grid_.hz};
-  const double domain = shape_ == "GIMP" || shape_ == "cpGIMP" ? 1.0 : 0.0;
+  const double domain = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "CPDI" ? 1.0 : 0.0;
   auto px = particles_.x;
   auto hs = particles_.halfSize;
   const int dim = grid_.dim;
@@ -671,7 +673,7 @@ void Simulation::buildIntegrator() {
                 << " is above 1, beyond the measured stable limit of the particle transfers; the run may diverge\n";
   }
 
-  const bool gimp = shape_ == "GIMP", cpgimp = shape_ == "cpGIMP", bspline = shape_ == "B-Spline Quadratic",
+  const bool gimp = shape_ == "GIMP", cpgimp = shape_ == "cpGIMP", cpdi = shape_ == "CPDI", bspline = shape_ == "B-Spline Quadratic",
              cubicBspline = shape_ == "B-Spline Cubic",
              fe = shape_ == "FE Q4" || shape_ == "FE Q9";
   if (fe && integratorType != "Implicit")
@@ -718,6 +720,7 @@ void Simulation::buildIntegrator() {
       constexpr int Dim = decltype(dimension)::value;
       if (gimp) return std::make_unique<ImplicitNewmark<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (cpgimp) return std::make_unique<ImplicitNewmark<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      if (cpdi) return std::make_unique<ImplicitNewmark<Cpdi, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (bspline)
         return std::make_unique<ImplicitNewmark<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
       if (cubicBspline)
@@ -736,6 +739,7 @@ void Simulation::buildIntegrator() {
       constexpr int Dim = decltype(dimension)::value;
       if (gimp) return std::make_unique<ExplicitStepper<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       if (cpgimp) return std::make_unique<ExplicitStepper<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+      if (cpdi) return std::make_unique<ExplicitStepper<Cpdi, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       if (bspline)
         return std::make_unique<ExplicitStepper<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
       if (cubicBspline)

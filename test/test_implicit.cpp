@@ -55,8 +55,10 @@ RunResult runDeck(ParameterList d, const Teuchos::RCP<const Teuchos::Comm<int>>&
 
 // The residual is linear in u (small strain): a finite difference of R along v is J v to
 // round-off. Returns || FD(R) v - P v || / || P v || for the assembled P of the step.
+// domainF (row-major 2 x 2): every particle's F before the step (CPDI's domains follow it).
 template <class Shape>
-double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teuchos::FancyOStream& out) {
+double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teuchos::FancyOStream& out,
+                        const double* domainF = nullptr) {
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
   g.nx = 30; g.ny = ny; g.hx = 1e-3; g.hy = 0.5e-3 / ny;
@@ -65,6 +67,13 @@ double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teucho
   body.placement = placement;
   Materials mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStrain};
   ParticleSet ps = createParticles(body, mat, dist);
+  if (domainF) {
+    auto F = Kokkos::create_mirror_view(ps.F);
+    for (int p = 0; p < ps.count; ++p)
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) F(p, i, j) = domainF[2 * i + j];
+    Kokkos::deep_copy(ps.F, F);
+  }
   NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
   LoadSet loads({}, dist, {}, 1);
   opt.solverParams = Teuchos::rcp(new ParameterList(NewtonSolver::validParameters()->name()));
@@ -129,6 +138,20 @@ TEUCHOS_UNIT_TEST(Implicit, CubicBSplineAssembledIsTheJacobian) {
   ImplicitOptions consistent;
   consistent.consistentMass = true;
   TEST_COMPARE(jacobianMismatch<CubicBSpline>(3, consistent, Placement::Lattice, out), <, 1e-5);
+}
+
+// CPDI: 4 x 4 node blocks hold the exact Jacobian, with the domains of F = I and of a sheared and
+// stretched F whose corners reach into neighbouring cells (non-tensor stencils), with the lumped
+// and the consistent mass.
+TEUCHOS_UNIT_TEST(Implicit, CpdiAssembledIsTheJacobian) {
+  ImplicitOptions lumped;
+  TEST_COMPARE(jacobianMismatch<Cpdi>(2, lumped, Placement::Lattice, out), <, 1e-5);
+  const double sheared[4] = {1.3, 0.4, 0.6, 0.9};
+  TEST_COMPARE(jacobianMismatch<Cpdi>(2, lumped, Placement::Lattice, out, sheared), <, 1e-5);
+  TEST_COMPARE(jacobianMismatch<Cpdi>(4, lumped, Placement::Lattice, out, sheared), <, 1e-5);
+  ImplicitOptions consistent;
+  consistent.consistentMass = true;
+  TEST_COMPARE(jacobianMismatch<Cpdi>(2, consistent, Placement::Lattice, out, sheared), <, 1e-5);
 }
 
 // FE Q9 with the consistent mass: P holds stiffness and consistent mass over the elements.

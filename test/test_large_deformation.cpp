@@ -129,6 +129,73 @@ TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnCpGimpConverges) {
   }
 }
 
+// CPDI1 (domains carried by the full F) on the same column, against cpGIMP at each resolution.
+TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnCpdiConverges) {
+  const ColumnErrors coarse = runColumn("CPDI", 10, "Neo-Hookean", out);
+  const ColumnErrors medium = runColumn("CPDI", 20, "Neo-Hookean", out);
+  const ColumnErrors fine = runColumn("CPDI", 40, "Neo-Hookean", out);
+  out << "observed orders of the CPDI sigma_yy error: " << std::log(coarse.stressL2 / medium.stressL2) / std::log(2.0)
+      << " (10 -> 20), " << std::log(medium.stressL2 / fine.stressL2) / std::log(2.0) << " (20 -> 40 cells)\n";
+  TEST_COMPARE(std::abs(fine.topSettlement), >, 0.1);
+  TEST_COMPARE(fine.stressL2, <, medium.stressL2);
+  TEST_COMPARE(medium.stressL2, <, coarse.stressL2);
+  TEST_COMPARE(fine.stressL2, <, 0.01);
+  TEST_COMPARE(fine.topRelative, <, 0.005);
+}
+
+// The CPDI column deck in 3D (one cell deep, rollers on the x and z sides: uniaxial strain, the
+// plane-strain column) gives the 2D run's settlement and base stress; and the deck with the
+// explicit integrator (gravity ramped over 1 s, dynamic) runs with CPDI as with cpGIMP, and in
+// 3D as in 2D.
+TEUCHOS_UNIT_TEST(LargeDeformation, CpdiColumn3dAndExplicit) {
+  auto base = [](const std::string& dir) {
+    auto deck = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/column_implicit_cpdi_neohookean.yaml");
+    deck->sublist("Problem").set("Output Directory", dir);
+    deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
+    return deck;
+  };
+  auto planar = base("test_output/column_cpdi_2d");
+  const auto h2 = impm_test::runDeck(*planar);
+  auto toSolid = [](Teuchos::RCP<ParameterList> deck) {
+    deck->remove("Exact Solution");
+    deck->sublist("Grid").remove("Plane Condition");
+    deck->sublist("Grid").set("Dimension", 3).set("Cells Z", 1).set("Cell Size Z", 0.05);
+    deck->sublist("Bodies").sublist("column").set("Z Min", 0.0).set("Z Max", 0.05).set("Particles Per Cell Z", 2);
+    deck->sublist("Constraints").sublist("rollers").set("Z Min", 0.0).set("Z Max", 0.05).set("Components", "xz");
+    deck->sublist("Monitors").sublist("top settlement").set("Z", 0.0125);
+    deck->sublist("Monitors").sublist("base stress").set("Z", 0.0125);
+    return deck;
+  };
+  const auto h3 = impm_test::runDeck(*toSolid(base("test_output/column_cpdi_3d")));
+  const double top2 = h2.at("top settlement").back(), top3 = h3.at("top settlement").back();
+  const double base2 = h2.at("base stress").back(), base3 = h3.at("base stress").back();
+  out << "CPDI column: top settlement 2D " << top2 << " m, 3D " << top3 << " m; base stress 2D " << base2 << " Pa, 3D " << base3
+      << " Pa\n";
+  TEST_COMPARE(std::abs(top2), >, 0.1);
+  TEST_FLOATING_EQUALITY(top3, top2, 1e-6);
+  TEST_FLOATING_EQUALITY(base3, base2, 1e-6);
+
+  auto dynamic = [&](const std::string& shape, bool solid) {
+    auto deck = base("test_output/column_explicit_" + shape + (solid ? "_3d" : ""));
+    deck->sublist("Method").set("Shape Function", shape);
+    deck->sublist("Integrator").set("Type", "Explicit").set("Time Step", 1.0e-4).set("Number of Steps", 12000);
+    deck->sublist("Loads").sublist("gravity").set("Ramp Time", 1.0);
+    deck->sublist("Output").set("History Interval", 100);
+    return impm_test::runDeck(solid ? *toSolid(deck) : *deck);
+  };
+  const auto cpdi = dynamic("CPDI", false), cpgimp = dynamic("cpGIMP", false), cpdi3 = dynamic("CPDI", true);
+  const double topCpdi = cpdi.at("top settlement").back(), topCpgimp = cpgimp.at("top settlement").back();
+  const double exact = h2.at("top settlement_exact").back();
+  out << "explicit column at t = 1.2 s: top settlement CPDI " << topCpdi << " m, cpGIMP " << topCpgimp << " m, static exact "
+      << exact << " m\n";
+  // Both oscillate about the static solution by the ramp's overshoot (measured 2%).
+  TEST_FLOATING_EQUALITY(topCpdi, topCpgimp, 0.01);
+  TEST_FLOATING_EQUALITY(topCpdi, exact, 0.05);
+  // Explicit 3D CPDI (one cell deep, rollers) follows the plane-strain run.
+  TEST_FLOATING_EQUALITY(cpdi3.at("top settlement").back(), topCpdi, 1e-6);
+  TEST_FLOATING_EQUALITY(cpdi3.at("base stress").back(), cpdi.at("base stress").back(), 1e-6);
+}
+
 TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnFixedDomainsOscillate) {
   // uGIMP and MPM on the same column: fixed domains overlap where the column compacts (uGIMP),
   // and points crossing cell lines give the classic grid-crossing noise (MPM). cpGIMP removes
@@ -183,8 +250,10 @@ TEUCHOS_UNIT_TEST(LargeDeformation, AssembledNewtonConvergesQuadratically) {
   // geometric terms, Stiffness.hpp with atTrialState), so the residual norms fall quadratically:
   // measured 3.1e3, 1.5e3, 158, 1.59, 1.2e-4, 6e-11. The observed order
   // log(r_k+1 / r_k) / log(r_k / r_k-1) over the last three norms above round-off must be >= 1.8.
+  // The same with CPDI (its own 4 x 4 node blocks).
+  for (const std::string shape : {"cpGIMP", "CPDI"}) {
   std::string dir;
-  runColumn("cpGIMP", 20, "Neo-Hookean", out, 400.0,
+  runColumn(shape, 20, "Neo-Hookean", out, 400.0,
             [](ParameterList& deck) {
               deck.sublist("Integrator").set("Time Step", 10.0).set("Number of Steps", 1);
               deck.sublist("Implicit Solver").set("Jacobian", "Assembled");
@@ -212,8 +281,9 @@ TEUCHOS_UNIT_TEST(LargeDeformation, AssembledNewtonConvergesQuadratically) {
   if (above.size() >= 3) {
     const size_t k = above.size() - 1;
     const double order = std::log(above[k] / above[k - 1]) / std::log(above[k - 1] / above[k - 2]);
-    out << "observed order of Newton's convergence: " << order << "\n";
+    out << shape << ": observed order of Newton's convergence: " << order << "\n";
     TEST_COMPARE(order, >=, 1.8);
+  }
   }
 }
 

@@ -20,10 +20,11 @@ void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet
   auto sv = Kokkos::Experimental::create_scatter_view(grid);
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto hs = pv.halfSize;
+  const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         auto out = sv.access();
-        const ParticleStencil<Shape, Dim> st(g, x, hs, p);
+        const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
         body(p, st, out);
       });
   GridView dest = grid;  // contribute() takes a non-const view
@@ -34,9 +35,10 @@ template <class ExecSpace, class Shape, int Dim, class Body>
 void gatherFromGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const Body& body) {
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto hs = pv.halfSize;
+  const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-        const ParticleStencil<Shape, Dim> st(g, x, hs, p);
+        const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
         body(p, st);
       });
 }

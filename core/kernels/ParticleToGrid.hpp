@@ -105,10 +105,11 @@ void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, c
                           const IndexView& index, const ForceView& force, const GridView& grid, int forceCol) {
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto hs = pv.halfSize;
+  const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   Kokkos::parallel_for(
       "p2g_point_forces", Kokkos::RangePolicy<ExecSpace>(0, index.extent(0)), KOKKOS_LAMBDA(int k) {
         const int p = index(k);
-        const ParticleStencil<Shape, Dim> st(g, x, hs, p);
+        const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
         st.forEachNode(ix, [&](int n, double w, const double*) {
           for (int d = 0; d < Dim; ++d) Kokkos::atomic_add(&grid(n, forceCol + d), w * force(k, d));
         });

@@ -157,9 +157,10 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
   const FixedParticleViews<Dim> fixed(ps);
   auto Fp = fixed.F; auto Gp = fixed.gradient; auto hist = ps.history;
   const int b0 = bnd[0], b1 = bnd[1], b2 = bnd[2];
+  const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   Kokkos::parallel_for(
       "stencil_stiffness", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-        const ParticleStencil<Shape, Dim> st(g, x, hs, p);
+        const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
         const int blockN[3] = {b0, b1, b2};
         int origin[3] = {0, 0, 0};
         for (int d = 0; d < Dim; ++d) {
