@@ -5,6 +5,7 @@
 #include <Teuchos_ParameterList.hpp>
 #include <Tpetra_Core.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -18,6 +19,14 @@ namespace impm_test {
 
 // Columns of history.csv, by header name ("time", monitor names, "total_energy", ...).
 using History = std::map<std::string, std::vector<double>>;
+
+// A value of summary.yaml by its key (the first line holding "key:"); NaN when absent.
+inline double summaryValue(const std::string& dir, const std::string& key) {
+  std::ifstream summary(dir + "/summary.yaml");
+  for (std::string line; std::getline(summary, line);)
+    if (line.find(key + ":") != std::string::npos) return std::stod(line.substr(line.find(key + ":") + key.size() + 1));
+  return std::nan("");
+}
 
 inline History readHistory(const std::string& path) {
   std::ifstream in(path);

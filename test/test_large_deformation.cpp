@@ -35,14 +35,6 @@ struct ColumnErrors {
   double newtonMean = 0, krylovMean = 0;
 };
 
-// A value of summary.yaml by its key (the first line holding "key:"); NaN when absent.
-double summaryValue(const std::string& dir, const std::string& key) {
-  std::ifstream summary(dir + "/summary.yaml");
-  for (std::string line; std::getline(summary, line);)
-    if (line.find(key + ":") != std::string::npos) return std::stod(line.substr(line.find(key + ":") + key.size() + 1));
-  return std::nan("");
-}
-
 ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& model, Teuchos::FancyOStream& out,
                        double gravity = 400.0, const std::function<void(ParameterList&)>& adjust = {},
                        std::string* outputDir = nullptr) {
@@ -99,8 +91,8 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   const double exactTop = exact.displacementY(height - 0.25 * h, 1.0);
   e.topRelative = std::abs(e.topSettlement - exactTop) / std::abs(exactTop);
   // The solver's figures, from summary.yaml.
-  e.newtonMean = summaryValue(dir, "Newton Iterations Mean");
-  e.krylovMean = summaryValue(dir, "Krylov Iterations Per Newton Mean");
+  e.newtonMean = impm_test::summaryValue(dir, "Newton Iterations Mean");
+  e.krylovMean = impm_test::summaryValue(dir, "Krylov Iterations Per Newton Mean");
   out << std::setprecision(4) << shape << " " << model << " column, " << cellsY << " cells: sigma_yy relative L2 " << e.stressL2
       << ", top settlement " << e.topSettlement << " m (exact " << exactTop << ", error " << e.topRelative
       << "); JFNK: " << e.newtonMean << " Newton iterations per step, " << e.krylovMean << " GMRES per Newton\n";
@@ -236,8 +228,8 @@ TEUCHOS_UNIT_TEST(LargeDeformation, AdaptiveTimeStepRecoversFromFailedNewton) {
         deck.sublist("Implicit Solver").set("Maximum Newton Iterations", 5);
       },
       &dir);
-  const double rejected = summaryValue(dir, "Rejected Sub-Steps"), subSteps = summaryValue(dir, "Sub-Steps");
-  out << "adaptive: " << subSteps << " sub-steps, " << rejected << " rejected, smallest " << summaryValue(dir, "Smallest Sub-Step")
+  const double rejected = impm_test::summaryValue(dir, "Rejected Sub-Steps"), subSteps = impm_test::summaryValue(dir, "Sub-Steps");
+  out << "adaptive: " << subSteps << " sub-steps, " << rejected << " rejected, smallest " << impm_test::summaryValue(dir, "Smallest Sub-Step")
       << " s\n";
   TEST_COMPARE(rejected, >=, 1.0);
   TEST_COMPARE(subSteps, >=, 2.0);
@@ -292,7 +284,7 @@ TEUCHOS_UNIT_TEST(LargeDeformation, PreconditionerRefreshPolicies) {
   std::string dir;
   auto run = [&](const std::function<void(ParameterList&)>& adjust, double& assemblies) {
     const ColumnErrors e = runColumn("cpGIMP", 20, "Neo-Hookean", out, 400.0, adjust, &dir);
-    assemblies = summaryValue(dir, "Stiffness Assemblies");
+    assemblies = impm_test::summaryValue(dir, "Stiffness Assemblies");
     return e;
   };
   // JFNK on the whole load in one step: the preconditioner from the trial-state tangent at every

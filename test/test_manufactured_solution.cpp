@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 
+#include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
 #include "physics/Materials.hpp"
 #include "physics/ManufacturedSolution.hpp"
@@ -24,13 +25,6 @@
 namespace {
 
 using Teuchos::ParameterList;
-
-double summaryValue(const std::string& dir, const std::string& key) {
-  std::ifstream summary(dir + "/summary.yaml");
-  for (std::string line; std::getline(summary, line);)
-    if (line.find(key + ":") != std::string::npos) return std::stod(line.substr(line.find(key + ":") + key.size() + 1));
-  return std::nan("");
-}
 
 struct MmsRun {
   double peakRms = 0, newtonMean = 0, krylovMean = 0;
@@ -63,8 +57,8 @@ MmsRun runMms(const std::string& shape, int cells, const std::string& integrator
   TEUCHOS_TEST_FOR_EXCEPTION(r.status != "completed", std::runtime_error, "manufactured-solution run: " + r.status);
   MmsRun m;
   m.peakRms = r.fieldErrorRmsPeak;
-  m.newtonMean = summaryValue(dir, "Newton Iterations Mean");
-  m.krylovMean = summaryValue(dir, "Krylov Iterations Per Newton Mean");
+  m.newtonMean = impm_test::summaryValue(dir, "Newton Iterations Mean");
+  m.krylovMean = impm_test::summaryValue(dir, "Krylov Iterations Per Newton Mean");
   out << std::setprecision(4) << integrator << " " << shape << " " << dim << "D, " << cells << " cells: peak RMS displacement error "
       << m.peakRms << " m (A = 0.025 m)";
   if (integrator == "Implicit") out << "; JFNK " << m.newtonMean << " Newton per step, " << m.krylovMean << " GMRES per Newton";
