@@ -51,6 +51,13 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   // Some Ifpack2 preconditioners (Relaxation) validate and fill in the list they are given: hand
   // them a copy so the deck's list stays as written.
   Teuchos::ParameterList copy(params_);
+  // Ifpack2's Amesos2 wrapper throws unless its options come in a sublist called "Amesos2": an
+  // empty one means KLU2 with its defaults.
+  if (type_ == "AMESOS2" && !copy.isSublist("Amesos2")) copy.sublist("Amesos2");
+  if (type_ == "SCHWARZ" && copy.isType<std::string>("subdomain solver name") &&
+      copy.get<std::string>("subdomain solver name") == "AMESOS2" &&
+      !copy.sublist("subdomain solver parameters").isSublist("Amesos2"))
+    copy.sublist("subdomain solver parameters").sublist("Amesos2");
   try {
     prec->setParameters(copy);
   } catch (const std::exception& e) {

@@ -179,9 +179,13 @@ RCP<const ParameterList> NewtonSolver::validParameters() {
   pl->set("Preconditioner", "RILUK",
           "Ifpack2 preconditioner built from the assembled P (initialize() once per matrix graph, compute() "
           "each Newton step): RILUK (incomplete LU, level of fill 'fact: iluk level-of-fill'), ILUT, "
-          "RELAXATION (Jacobi unless 'relaxation: type' says otherwise), CHEBYSHEV, or None. Across MPI ranks "
-          "the ILU variants act as block Jacobi",
-          rcp(new Teuchos::StringValidator(Teuchos::tuple<std::string>("RILUK", "ILUT", "RELAXATION", "CHEBYSHEV", "None"))));
+          "RELAXATION (Jacobi unless 'relaxation: type' says otherwise), CHEBYSHEV, AMESOS2 (sparse direct LU of "
+          "each rank's diagonal block, KLU2 unless 'Amesos2 solver name' says otherwise: on one rank the exact "
+          "inverse of P), SCHWARZ (additive Schwarz, 'schwarz: overlap level' layers of overlap between ranks, "
+          "'subdomain solver name' RILUK unless set, e.g. AMESOS2), or None. Across MPI ranks the ILU variants "
+          "and AMESOS2 act as block Jacobi",
+          rcp(new Teuchos::StringValidator(
+              Teuchos::tuple<std::string>("RILUK", "ILUT", "RELAXATION", "CHEBYSHEV", "AMESOS2", "SCHWARZ", "None"))));
   pl->set("Displacement Tolerance", 1e-10,
           "converged when ||du_k|| <= tol * ||u_k|| (du_k: update of Newton iteration k; 2-norms) AND the "
           "energy criterion holds",
