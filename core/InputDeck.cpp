@@ -267,6 +267,10 @@ RCP<const ParameterList> validParameters() {
     ParameterList& e = p.sublist("Explicit", false, "explicit integrator options");
     choice(e, "Update Scheme", "USL", {"USF", "USL", "MUSL"}, "when the stress is updated");
     number(e, "FLIP Fraction", 1.0, "particle velocity update: 1 = FLIP, 0 = PIC, between = blend");
+    number(e, "Mass Damping", 0.0,
+           "mass-proportional damping c (1/s): each grid node's acceleration gets -c v_i (a force -c m_i v_i), for "
+           "dynamic relaxation to a quasi-static state; a mode of angular frequency omega is critically damped at "
+           "c = 2 omega, higher modes less (0: none, the scheme conserves energy)");
     e.set("Consistent Projection Iterations", 0,
           "Jacobi iterations towards the consistent-mass projection of particle momentum to grid velocity; "
           "0 = the classic lumped projection p/m, which smooths the velocity field by M_L^-1 M_C every step "

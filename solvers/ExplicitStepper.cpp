@@ -49,6 +49,7 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
   auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto kinv = fields_.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
   const double cutoff = massCutoff_;
+  const double damping = withForces ? opt_.massDamping : 0.0;
   Kokkos::parallel_for(
       "grid_update", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
         const double m = acc(n, A::Mass);
@@ -58,7 +59,7 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
         }
         for (int d = 0; d < Dim; ++d) {
           const double v = acc(n, A::MomX + d) / m;
-          const double a = withForces ? (acc(n, A::FintX + d) + acc(n, A::FextX + d)) / m : 0.0;
+          const double a = withForces ? (acc(n, A::FintX + d) + acc(n, A::FextX + d)) / m - damping * v : 0.0;
           kinv(n, K::VelX + d) = v + dt * a;
           kinv(n, K::AccX + d) = a;
         }

@@ -34,6 +34,9 @@ struct ExplicitOptions {
   // Jacobi iterations towards the consistent-mass projection of particle momentum to grid
   // velocity (0: the classic lumped projection v = p / m).
   int projectionIterations = 0;
+  // Mass-proportional damping c (1/s): the grid acceleration gets -c v_i, a force -c m_i v_i,
+  // for dynamic relaxation to a quasi-static state (critical for a mode omega at c = 2 omega).
+  double massDamping = 0.0;
 };
 
 template <class Shape, int Dim = 2>

@@ -650,6 +650,10 @@ void Simulation::buildIntegrator() {
     eopt.projectionIterations = ex.get<int>("Consistent Projection Iterations");
     if (eopt.projectionIterations < 0)
       throw DeckError("'Integrator/Explicit/Consistent Projection Iterations' must not be negative");
+    eopt.massDamping = ex.get<double>("Mass Damping");
+    if (!(eopt.massDamping >= 0) || !std::isfinite(eopt.massDamping))
+      throw DeckError("'Integrator/Explicit/Mass Damping' must be finite and not negative, got " +
+                      formatNumber(eopt.massDamping));
     if (!(eopt.flip >= 0 && eopt.flip <= 1))
       throw DeckError("'Integrator/Explicit/FLIP Fraction' must lie in [0, 1], got " + formatNumber(eopt.flip));
     const double factor = positive(ex, "Integrator/Explicit", "Stability Factor");

@@ -80,6 +80,7 @@ expect_failure(zero_size "Cell Size Y: 0.5e-3" "Cell Size Y: 0.0" "Grid/Cell Siz
 expect_failure(outside "X Max: 0.03" "X Max: 0.05" "Body/X Max")
 expect_failure(unstable "Time Step: 1.0e-8" "Time Step: 1.0e-6" "Integrator/Time Step")
 expect_failure(bad_choice "Update Scheme: USL" "Update Scheme: USX" "Integrator/Explicit/Update Scheme")
+expect_failure(negative_damping "Update Scheme: USL" "Update Scheme: USL\n      Mass Damping: -1.0" "Integrator/Explicit/Mass Damping")
 expect_failure(bad_preconditioner "  Output:" "  Implicit Solver:\n    Preconditioner: MAGIC\n  Output:" "Implicit Solver/Preconditioner")
 expect_failure(negative_tolerance "  Output:" "  Implicit Solver:\n    Displacement Tolerance: -1.0e-8\n  Output:" "Implicit Solver/Displacement Tolerance")
 

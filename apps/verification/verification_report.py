@@ -7,8 +7,9 @@
 Generates decks from the base decks in apps/ (output-root/decks/), runs each with build/apps/impm
 one at a time (output-root/runs/<case>/; a run whose summary.yaml exists and whose deck is
 unchanged is reused), computes errors, refinement orders, Problem 2's discrepancy budget, the
-cell-crossing study (crossing.py), the large-deformation section (largedef.py) and the
-manufactured-solution convergence study (mms.py), and writes
+cell-crossing study (crossing.py), the large-deformation section (largedef.py), the
+manufactured-solution convergence study (mms.py) and the large-deflection cantilever with the
+explicit/implicit time to solution (cantilever.py), and writes
 doc/verification.md with its figures in doc/verification/ (--reduced: a short subset for ctest,
 written under output-root). --check prints one PASS/FAIL line per target and exits 1 if
 any fails. cmake/run-verification.sh builds impm first and then calls this script.
@@ -35,9 +36,13 @@ import crossing  # noqa: E402
 import decks  # noqa: E402
 import largedef  # noqa: E402
 import mms  # noqa: E402
+import cantilever  # noqa: E402
 import plots  # noqa: E402
 import report  # noqa: E402
 from runner import Runner  # noqa: E402
+
+# Sections 6, 7 and 8 of the report, in that order.
+LARGE_DEFORMATION_SECTIONS = (largedef, mms, cantilever)
 
 REPO = os.path.dirname(os.path.dirname(HERE))
 
@@ -227,23 +232,21 @@ def main(argv=None):
         runner.run(c, i, len(crossing_cases))
     cross = crossing.compute(runner.runs, crossing_cases)
     res["checks"].extend(cross["checks"])
-    ld_plan = largedef.plan(REPO, args.reduced)
-    ld_cases = largedef.cases_of(ld_plan)
-    for i, c in enumerate(ld_cases, 1):
-        runner.run(c, i, len(ld_cases))
-    large = largedef.compute(runner.runs, ld_plan)
-    res["checks"].extend(large["checks"])
-    mms_plan = mms.plan(REPO, args.reduced)
-    mms_cases = mms.cases_of(mms_plan)
-    for i, c in enumerate(mms_cases, 1):
-        runner.run(c, i, len(mms_cases))
-    manufactured = mms.compute(runner.runs, mms_plan)
-    res["checks"].extend(manufactured["checks"])
+    # The large-deformation sections share one interface: plan, cases_of, compute, plot, markdown.
+    sections = []
+    for module in LARGE_DEFORMATION_SECTIONS:
+        section_plan = module.plan(REPO, args.reduced)
+        section_cases = module.cases_of(section_plan)
+        for i, c in enumerate(section_cases, 1):
+            runner.run(c, i, len(section_cases))
+        result = module.compute(runner.runs, section_plan)
+        res["checks"].extend(result["checks"])
+        sections.append((module, result))
 
     os.makedirs(image_dir, exist_ok=True)
     make_plots(res, image_dir)
-    largedef.plot(large, image_dir)
-    mms.plot(manufactured, image_dir)
+    for module, result in sections:
+        module.plot(result, image_dir)
     ok_runs = [r for r in runs.values() if r.ok]
     meta = {
         "command": os.environ.get("IMPM_VERIFICATION_COMMAND") or "python3 apps/verification/verification_report.py "
@@ -272,8 +275,8 @@ def main(argv=None):
     report.write(res, doc, image_dir, meta)
     with open(doc, "a") as f:
         f.write("\n" + "\n".join(crossing.markdown(cross)) + "\n")
-        f.write("\n" + "\n".join(largedef.markdown(large, os.path.relpath(image_dir, os.path.dirname(doc)))) + "\n")
-        f.write("\n" + "\n".join(mms.markdown(manufactured, os.path.relpath(image_dir, os.path.dirname(doc)))) + "\n")
+        for module, result in sections:
+            f.write("\n" + "\n".join(module.markdown(result, os.path.relpath(image_dir, os.path.dirname(doc)))) + "\n")
     print(f"verification_report: wrote {os.path.relpath(doc, os.getcwd())} and {len(os.listdir(image_dir))} figures "
           f"in {os.path.relpath(image_dir, os.getcwd())}; {meta['runs']} runs ({meta['reused']} reused, "
           f"{meta['failed']} failed), {meta['elapsed']:.0f} s")
