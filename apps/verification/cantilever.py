@@ -189,7 +189,8 @@ def markdown(res, rel_img):
         "`physics/ElasticaExact.hpp`). Implicit: 20 Newmark steps of 50 s over a 1000 s ramp (the first bending "
         "period is 3.7 s, so inertia is negligible; each step is 1.5e5 explicit stable steps). Explicit "
         f"(`{EXPLICIT_DECK}`): MUSL at 0.9 of impm's stable step, the load ramped over 5 s and held, with mass "
-        "damping c = 3.4 /s (twice the first bending frequency: critical for that mode), to 12 s. Errors are those of "
+        "damping c = 3.4 /s (twice the first bending frequency: critical for that mode) and FLIP fraction 0.9 (its PIC part "
+        "damps the particle-scale noise the grid damping cannot see), to 12 s. Errors are those of "
         "the tip particle at k = 2 against the elastica at its reference position.",
         "",
     ]
