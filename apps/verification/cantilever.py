@@ -17,6 +17,7 @@ import numpy as np
 import decks
 from cases import Case
 from checks import Check
+from report import table
 
 IMPLICIT_DECK = "apps/cantilever_implicit_cpdi_neohookean.yaml"
 EXPLICIT_DECK = "apps/cantilever_explicit_cpdi_neohookean.yaml"
@@ -179,11 +180,6 @@ def plot(res, image_dir):
     return ["cantilever_tip.png"]
 
 
-def _table(header, rows):
-    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    return out + ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-
-
 def markdown(res, rel_img):
     L = ["## 8. Large-deflection cantilever and time to solution", ""]
     if not res["rows"]:
@@ -209,7 +205,7 @@ def markdown(res, rel_img):
         rows.append([r["text"], _cells(r),
                      f(100 * r["ux"], "{:+.2f}%") or "failed", f(100 * r["uy"], "{:+.2f}%") or "failed",
                      f(r["newton"], "{:.2f}"), f(r["gmres"], "{:.2f}"), f(r["halvings"], "{:.0f}"), f(r["wall"], "{:.1f}")])
-    L += _table(header, rows)
+    L += table(header, rows).splitlines()
     L += [
         "",
         f"![tip displacements against the elastica]({rel_img}/cantilever_tip.png)",

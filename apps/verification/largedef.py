@@ -31,6 +31,7 @@ import analysis
 import decks
 from cases import Case
 from checks import Check
+from report import table
 
 COLUMN_DECK = "apps/column_implicit_cpgimp_neohookean.yaml"
 DISKS_DECK = "apps/colliding_disks_explicit_cpgimp_neohookean.yaml"
@@ -442,11 +443,6 @@ def _ord(o):
     return "n/a" if o is None or not math.isfinite(o) else f"{o:.2f}"
 
 
-def _table(header, rows):
-    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    return out + ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-
-
 def _column_rows(res, law, shapes):
     rows = []
     for shape in shapes:
@@ -519,7 +515,7 @@ def markdown(res, rel_img):
 
     # ---- neo-Hookean
     L += ["### Neo-Hookean column: " + ", ".join(SHAPE_LABELS[s] for s in SHAPES if ("neohookean", s) in res["column"]), ""]
-    L += _table(COLUMN_HEADER, _column_rows(res, "neohookean", SHAPES))
+    L += table(COLUMN_HEADER, _column_rows(res, "neohookean", SHAPES)).splitlines()
     L += [""]
     cp, ug, mp = (res["column"].get(("neohookean", s)) for s in SHAPES)
     if cp and all(r["run"].ok for r in cp):
@@ -581,7 +577,7 @@ def markdown(res, rel_img):
               f"where the log strain exceeds sigma_y / (2 mu) = {ej.sy / (2 * ej.mu):.4f}, i.e. below Y = {yh:.3f} m "
               f"at the end (the base reaches a stretch of {ej.stretch(0.0):.3f} against the neo-Hookean "
               f"{base_stretch:.3f}). sigma_yy has the same equilibrium profile.", ""]
-        L += _table(COLUMN_HEADER, _column_rows(res, "j2", ("cpGIMP",)))
+        L += table(COLUMN_HEADER, _column_rows(res, "j2", ("cpGIMP",))).splitlines()
         L += [""]
         f = j2[-1]
         if f["run"].ok:
@@ -604,7 +600,7 @@ def markdown(res, rel_img):
               f"{abs(el.displacement_y(el.height)) * 1e3:.3f} mm at the top) is the exact one. Bilinear cells hold one "
               "strain per cell and at this load the particles barely move, so the stress error should be the "
               "one-strain-per-cell error, first order in h.", ""]
-        L += _table(COLUMN_HEADER, _column_rows(res, "linear", ("cpGIMP",)))
+        L += table(COLUMN_HEADER, _column_rows(res, "linear", ("cpGIMP",))).splitlines()
         L += [""]
         if all(r["run"].ok for r in lin):
             o = res["orders"][("linear", "cpGIMP")]["stress"][-1]
@@ -629,11 +625,11 @@ def markdown(res, rel_img):
               "against initial) and the peak strain energy over the initial total (history.csv, every 10 steps), which "
               "shows how hard the disks are squeezed.", ""]
         if dk["run"].ok:
-            L += _table(["initial total (J)", "final total (J)", "drift", "max deviation", "momentum max rel. change",
+            L += table(["initial total (J)", "final total (J)", "drift", "max deviation", "momentum max rel. change",
                          "final momentum (x, y) (kg m/s)", "peak strain energy / initial total", "at t (s)", "wall (s)"],
                         [[f"{dk['initial']:.5g}", f"{dk['final']:.5g}", f"{100 * dk['drift']:+.3g}%", _pct(dk["max_dev"]),
                           f"{dk['momentum']:.2e}", f"({dk['momentum_final'][0]:.2e}, {dk['momentum_final'][1]:.2e})",
-                          f"{dk['peak']:.3f}", f"{dk['peak_time']:g}", f"{dk['wall']:.2f}"]])
+                          f"{dk['peak']:.3f}", f"{dk['peak_time']:g}", f"{dk['wall']:.2f}"]]).splitlines()
             L += ["", "The total momentum stays zero to round-off: with no boundary conditions, USL on one velocity field "
                   "exchanges momentum only through the internal grid forces, which sum to zero (the weights' gradients "
                   "sum to zero), and the FLIP update hands each node's momentum change back to its particles in full. "

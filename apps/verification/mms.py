@@ -22,6 +22,7 @@ import analysis
 import decks
 from cases import Case
 from checks import Check
+from report import table
 
 DECK = "apps/mms_explicit_cpgimp_neohookean.yaml"
 EXPLICIT_SHAPES = ("cpGIMP", "CPDI", "GIMP", "B-Spline Quadratic", "B-Spline Cubic", "MPM")
@@ -174,11 +175,6 @@ def plot(res, image_dir):
     return ["mms_convergence.png"]
 
 
-def _table(header, rows):
-    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    return out + ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-
-
 def markdown(res, rel_img):
     L = ["## 7. Manufactured solution: convergence at finite strain", ""]
     if not res["series"]:
@@ -209,7 +205,7 @@ def markdown(res, rel_img):
         rows.append([integ.lower(), LABELS.get(shape, shape)] + cells + [", ".join("n/a" if not math.isfinite(x) else f"{x:.2f}" for x in o),
                      f"{last['newton']:.2f}" if math.isfinite(last["newton"]) else "",
                      f"{last['gmres']:.2f}" if math.isfinite(last["gmres"]) else "", f"{last['wall']:.1f}"])
-    L += _table(header, rows)
+    L += table(header, rows).splitlines()
     L += [
         "",
         f"![peak RMS displacement error against cells per side]({rel_img}/mms_convergence.png)",
