@@ -71,6 +71,14 @@ RCP<TpetraOperator> IfpackPreconditionerCache::update(const RCP<const CrsMatrix>
   // Same object with a static (const) graph: only the values can have changed, so the symbolic
   // setup stands. Anything else may have a new structure: start from a fresh preconditioner.
   const bool sameStructure = !prec_.is_null() && P.get() == matrix_.get() && P->isStaticGraph();
+  // Ifpack2 13.2's Amesos2 wrapper (alone, or as Schwarz's subdomain solve) copies the rank's
+  // block of P in initialize() whenever that block is not P itself (several ranks), and compute()
+  // refactors the copy: without a new initialize() it would keep the first step's values.
+  const bool copiesInInitialize = type_ == "SCHWARZ" || (type_ == "AMESOS2" && P->getComm()->getSize() > 1);
+  if (sameStructure && copiesInInitialize && !(valuesVersion >= 0 && valuesVersion == valuesVersion_)) {
+    prec_->initialize();
+    ++initializations_;
+  }
   if (!sameStructure) {
     prec_ = create(P);
     matrix_ = P;
