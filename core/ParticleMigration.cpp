@@ -112,6 +112,7 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist) {
     return rows;
   };
   ParticleSet next(0, ps.dim);
+  if (ps.hasHistory()) next.allocateHistory();  // J2's b_e and alpha travel with their particles
   next.unpackAppend(kept);
   next.unpackAppend(rowsOf(fromL, nFromL));
   next.unpackAppend(rowsOf(fromR, nFromR));

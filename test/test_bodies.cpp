@@ -154,8 +154,15 @@ TEUCHOS_UNIT_TEST(Bodies, ParticlesMigrateToTheirSlab) {
   impm::validateDeck(d);
   impm::Simulation sim(d, comm);
   impm::ParticleSet ps = sim.particles();  // shares the views
+  // A path-dependent material's history travels with its particle: alpha = global id / 1000.
+  ps.allocateHistory();
   auto x = ps.x;
-  Kokkos::parallel_for("shift", Kokkos::RangePolicy<impm::ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) { x(p, 0) += 0.3; });
+  auto history = ps.history;
+  auto ids = ps.id;
+  Kokkos::parallel_for("shift", Kokkos::RangePolicy<impm::ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+    x(p, 0) += 0.3;
+    history(p, impm::ParticleSet::kHistoryCount - 1) = 1e-3 * (double)ids(p);
+  });
   const HostParticles before = gather(ps);
   double sums[3] = {0, 0, 0}, gBefore[3], gAfter[3];
   for (size_t p = 0; p < before.id.size(); ++p) { sums[0] += 1; sums[1] += (double)before.id[p]; sums[2] += before.mass[p]; }
@@ -176,6 +183,15 @@ TEUCHOS_UNIT_TEST(Bodies, ParticlesMigrateToTheirSlab) {
   }
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 3, sums, gAfter);
   TEST_ASSERT(inSlab);
+  TEST_ASSERT(ps.hasHistory());
+  if (ps.hasHistory()) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.history);
+    auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id);
+    bool historyFollows = h.extent(0) == (size_t)ps.count;
+    for (int p = 0; historyFollows && p < ps.count; ++p)
+      historyFollows = h(p, impm::ParticleSet::kHistoryCount - 1) == 1e-3 * (double)id(p) && h(p, 0) == 1.0;
+    TEST_ASSERT(historyFollows);
+  }
   TEST_EQUALITY(gAfter[0], gBefore[0]);
   TEST_EQUALITY(gAfter[1], gBefore[1]);
   TEST_FLOATING_EQUALITY(gAfter[2], gBefore[2], 1e-14);
