@@ -56,6 +56,4 @@ inline std::vector<double> latticeOffsets(LatticePoints rule, int n) {
   return offsets;
 }
 
-inline const char* latticePointsName(LatticePoints rule) { return rule == LatticePoints::Gauss ? "Gauss" : "Uniform"; }
-
 }  // namespace impm
