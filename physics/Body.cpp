@@ -8,17 +8,6 @@
 namespace impm {
 
 namespace {
-// 1D Gauss-Legendre rule on [-1, 1].
-void gaussRule(int n, std::vector<double>& xi, std::vector<double>& w) {
-  if (n == 2) {
-    xi = {-1.0 / std::sqrt(3.0), 1.0 / std::sqrt(3.0)};
-    w = {1.0, 1.0};
-  } else {
-    xi = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
-    w = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  }
-}
-
 // Gauss points of the elements of a rectangle (3D: box) on grid lines: one cell (Q4, Hex8) or
 // 2 x 2 (x 2) cells (Q9, Hex27).
 std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const StructuredGrid& g, bool q9, double thickness) {
@@ -29,7 +18,7 @@ std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const Struct
   const int cellK1 = solid ? (int)std::lround((body.zMax - g.z0) / g.hz) : 1;
   const int span = q9 ? 2 : 1;
   std::vector<double> xi, w;
-  gaussRule(q9 ? 3 : 2, xi, w);
+  gaussLegendre(q9 ? 3 : 2, xi, w);
   const double ex = 0.5 * span * g.hx, ey = 0.5 * span * g.hy, ez = 0.5 * span * g.hz;  // element half sizes
   const size_t nzq = solid ? xi.size() : 1;
   std::vector<ParticlePoint> points;
@@ -47,14 +36,17 @@ std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const Struct
   return points;
 }
 
-// Lattice fill of a box on a 3D grid: each cell the box covers split into ppx x ppy x ppz
-// sub-boxes, a particle at each sub-box centre inside the box (in the order column, row, layer,
-// sub-box x, y, z).
+// Lattice fill of a box on a 3D grid: each cell the box covers gets ppx x ppy x ppz particles
+// at the positions of the body's LatticePoints (sub-box centres or Gauss pairs), each with
+// volume hx hy hz / (ppx ppy ppz); those inside the box are kept (in the order column, row,
+// layer, then x, y, z within the cell).
 std::vector<ParticlePoint> fillBox(const RectangularBody& body, const StructuredGrid& g) {
   const int px = body.particlesPerCellX, py = body.particlesPerCellY, pz = body.particlesPerCellZ;
   if (px < 1 || py < 1 || pz < 1)
     throw std::invalid_argument("particles per cell must be at least 1, got " + std::to_string(px) + " x " +
                                 std::to_string(py) + " x " + std::to_string(pz));
+  const std::vector<double> ox = latticeOffsets(body.latticePoints, px), oy = latticeOffsets(body.latticePoints, py),
+                            oz = latticeOffsets(body.latticePoints, pz);
   const double dx = g.hx / px, dy = g.hy / py, dz = g.hz / pz;
   auto range = [](double lo, double hi, double origin, double h, int n, int& b, int& e) {
     b = std::max(0, (int)std::floor((lo - origin) / h) - 1);
@@ -72,7 +64,7 @@ std::vector<ParticlePoint> fillBox(const RectangularBody& body, const Structured
           for (int b = 0; b < py; ++b)
             for (int c = 0; c < pz; ++c) {
               ParticlePoint p;
-              p.x = g.nodeX(i) + (a + 0.5) * dx; p.y = g.nodeY(j) + (b + 0.5) * dy; p.z = g.nodeZ(k) + (c + 0.5) * dz;
+              p.x = g.nodeX(i) + ox[a] * dx; p.y = g.nodeY(j) + oy[b] * dy; p.z = g.nodeZ(k) + oz[c] * dz;
               if (p.x < body.xMin || p.x > body.xMax || p.y < body.yMin || p.y > body.yMax || p.z < body.zMin || p.z > body.zMax)
                 continue;
               p.lx = 0.5 * dx; p.ly = 0.5 * dy; p.lz = 0.5 * dz;
@@ -109,7 +101,7 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
       } else {
         // Rectangles on grid lines need no volume scaling; other shapes get their exact area.
         pts = fillShape(*body.shape, box, body.rect.particlesPerCellX, body.rect.particlesPerCellY, thickness, 0, g.nx,
-                        !body.rectangle);
+                        !body.rectangle, body.rect.latticePoints);
       }
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("'Bodies/" + body.name + "': " + e.what());

@@ -1,6 +1,6 @@
 // Bodies: named pieces of material, each a shape filled with particles (a lattice of
-// Particles Per Cell sub-boxes of the cells the shape covers, or the FE reference's Gauss
-// points), or the particles of a file. Every particle carries its body id, its material id and
+// Particles Per Cell points in each cell the shape covers, at sub-box centres or Gauss pairs,
+// see LatticePoints; or the FE reference's Gauss points), or the particles of a file. Every particle carries its body id, its material id and
 // a global id that does not depend on the MPI decomposition (the order of the whole fill).
 #pragma once
 
@@ -11,6 +11,7 @@
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
 #include "physics/BodyShapes.hpp"
+#include "physics/LatticePoints.hpp"
 #include "physics/Materials.hpp"
 
 namespace impm {
@@ -29,6 +30,7 @@ struct RectangularBody {
   // 3D only (last, so that 2D aggregate initialisers keep their meaning).
   double zMin = 0, zMax = 1;
   int particlesPerCellZ = 2;
+  LatticePoints latticePoints = LatticePoints::Uniform;  // where a Lattice placement puts them in a cell
 
   double length() const { return xMax - xMin; }
   double height() const { return yMax - yMin; }

@@ -234,7 +234,7 @@ std::vector<std::array<double, 2>> parsePolygonVertices(const std::string& text)
 }
 
 std::vector<ParticlePoint> fillShape(const BodyShape& shape, const GridBox& g, int ppx, int ppy, double thickness,
-                                     int colBegin, int colEnd, bool scaleToExactArea) {
+                                     int colBegin, int colEnd, bool scaleToExactArea, LatticePoints points) {
   if (!(g.hx > 0) || !(g.hy > 0) || g.nx < 1 || g.ny < 1)
     throw std::invalid_argument("grid needs positive cell sizes and counts, got hx = " + num(g.hx) + ", hy = " +
                                 num(g.hy) + ", nx = " + std::to_string(g.nx) + ", ny = " + std::to_string(g.ny));
@@ -268,6 +268,7 @@ std::vector<ParticlePoint> fillShape(const BodyShape& shape, const GridBox& g, i
   cellRange(xlo, xhi, g.x0, g.hx, g.nx, i0, i1);
   cellRange(ylo, yhi, g.y0, g.hy, g.ny, j0, j1);
 
+  const std::vector<double> ox = latticeOffsets(points, ppx), oy = latticeOffsets(points, ppy);
   const double dx = g.hx / ppx, dy = g.hy / ppy;
   // Node positions as StructuredGrid::nodeX/nodeY compute them, so that a rectangle on grid lines
   // gets bit for bit the particles of the rectangle-only lattice this fill replaces.
@@ -276,7 +277,7 @@ std::vector<ParticlePoint> fillShape(const BodyShape& shape, const GridBox& g, i
       for (int j = j0; j < j1; ++j)
         for (int a = 0; a < ppx; ++a)
           for (int b = 0; b < ppy; ++b) {
-            const double x = (g.x0 + i * g.hx) + (a + 0.5) * dx, y = (g.y0 + j * g.hy) + (b + 0.5) * dy;
+            const double x = (g.x0 + i * g.hx) + ox[a] * dx, y = (g.y0 + j * g.hy) + oy[b] * dy;
             if (shape.contains(x, y)) visit(x, y);
           }
   };
@@ -294,13 +295,13 @@ std::vector<ParticlePoint> fillShape(const BodyShape& shape, const GridBox& g, i
   }
   const double volume = dx * dy * thickness * factor;
 
-  std::vector<ParticlePoint> points;
+  std::vector<ParticlePoint> kept;
   forEachInside(std::max(i0, colBegin), std::min(i1, colEnd), [&](double x, double y) {
     ParticlePoint p;
     p.x = x, p.y = y, p.lx = 0.5 * dx, p.ly = 0.5 * dy, p.volume = volume;
-    points.push_back(p);
+    kept.push_back(p);
   });
-  return points;
+  return kept;
 }
 
 std::vector<ParticlePoint> readParticlesFile(const std::string& path, int dim, double thickness) {

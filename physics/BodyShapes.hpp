@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "physics/LatticePoints.hpp"
+
 namespace impm {
 
 // One material point: centre, half sizes of its GIMP domain, volume. z = lz = 0 in 2D.
@@ -54,10 +56,12 @@ std::unique_ptr<BodyShape> makePolygon(const std::vector<std::array<double, 2>>&
 // A malformed vertex throws naming its 1-based index. The vertex count is makePolygon's to check.
 std::vector<std::array<double, 2>> parsePolygonVertices(const std::string& text);
 
-// Lattice fill of a shape. Each grid cell is split into ppx x ppy sub-boxes; the candidate at a
-// sub-box centre, with the sub-box as its domain (half sizes hx/(2 ppx), hy/(2 ppy)) and volume
-// (hx/ppx)(hy/ppy) thickness, is kept if the shape contains it. Only cell columns
-// [colBegin, colEnd) (an MPI rank's slab) are filled, in the order column, row, sub-box x, y.
+// Lattice fill of a shape. Each grid cell gets ppx x ppy candidates at the positions of `points`
+// (Uniform: the centres of ppx x ppy sub-boxes; Gauss: the Gauss pairs of ppx/2 x ppy/2
+// sub-boxes, ppx and ppy even), each with volume (hx/ppx)(hy/ppy) thickness and a domain of that
+// size centred on it (half sizes hx/(2 ppx), hy/(2 ppy)); a candidate is kept if the shape
+// contains it. Only cell columns [colBegin, colEnd) (an MPI rank's slab) are filled, in the order
+// column, row, then x, y within the cell.
 //
 // Exact volume assigned: with scaleToExactArea, every kept volume is multiplied by one factor,
 // area * thickness / (sum of the unscaled volumes), so that the body's total volume (and mass) is
@@ -66,10 +70,11 @@ std::vector<std::array<double, 2>> parsePolygonVertices(const std::string& text)
 // (the lattice already fills the shape exactly, as a rectangle on grid lines does) is taken as
 // 1 exactly, so that rounding does not perturb such volumes.
 //
-// Throws if ppx, ppy, thickness, the grid or the column range are invalid, if the shape's
+// Throws if ppx, ppy (odd for Gauss), thickness, the grid or the column range are invalid, if the shape's
 // bounding box extends beyond the grid, or if no candidate of the whole grid lies inside it.
 std::vector<ParticlePoint> fillShape(const BodyShape& shape, const GridBox& grid, int ppx, int ppy, double thickness,
-                                     int colBegin, int colEnd, bool scaleToExactArea);
+                                     int colBegin, int colEnd, bool scaleToExactArea,
+                                     LatticePoints points = LatticePoints::Uniform);
 
 // Particles from a CSV file: x, y, volume per row (dim 2) or x, y, z, volume (dim 3). Blank lines
 // and lines starting with '#' are skipped, and so is the first other line if none of its fields

@@ -329,6 +329,21 @@ void Simulation::buildMaterialsAndBodies() {
       throw DeckError("'" + key + "/Shape' = " + shape + " is a 2D shape; with 'Grid/Dimension' = 3 a body is a Rectangle (box) or a Particles File");
     if (grid_.dim == 2 && body.velocityZ != 0.0)
       throw DeckError("'" + key + "/Velocity Z' = " + formatNumber(body.velocityZ) + " needs 'Grid/Dimension' = 3");
+    if (b.get<std::string>("Particle Placement") == "Gauss") {
+      // Gauss pairs in sub-cells: an even count per direction, and only where a lattice is filled.
+      if (shape == "Particles File" || placement_ != Placement::Lattice)
+        throw DeckError("'" + key + "/Particle Placement' = Gauss places a lattice fill's particles; " +
+                        (shape == "Particles File" ? std::string("a Particles File body takes its particles as given")
+                                                   : "'Method/Shape Function' = " + shape_ + " places its own Gauss points"));
+      for (const char* axis : {"X", "Y", "Z"}) {
+        if (axis[0] == 'Z' && grid_.dim == 2) continue;
+        const int n = b.get<int>(std::string("Particles Per Cell ") + axis);
+        if (n % 2)
+          throw DeckError("'" + key + "/Particle Placement' = Gauss puts Gauss-Legendre pairs in sub-cells: '" + key +
+                          "/Particles Per Cell " + axis + "' must be even, got " + std::to_string(n));
+      }
+      body.rect.latticePoints = LatticePoints::Gauss;
+    }
     size_t fileParticles = 0;
     if (placement_ != Placement::Lattice && shape != "Rectangle")
       throw DeckError("'" + key + "/Shape' = " + shape + ": 'Method/Shape Function' = " + shape_ +

@@ -231,3 +231,9 @@ foreach(np 1 2)
     message(FATAL_ERROR "diverged_np${np}: history.csv has ${nrows} lines, expected 6 (header, steps 0 to 4)")
   endif()
 endforeach()
+# Particle Placement (issue 9): an unknown value, and Gauss pairs with an odd count per cell.
+set(good "${good_bar}")
+expect_failure(bad_particle_placement "Particles Per Cell Y: 5" "Particles Per Cell Y: 5\n    Particle Placement: Gaus"
+               "'Body/Particle Placement'")
+expect_failure(gauss_odd_particles "Particles Per Cell Y: 5" "Particles Per Cell Y: 5\n    Particle Placement: Gauss"
+               "'Bodies/Body/Particle Placement' = Gauss puts Gauss-Legendre pairs in sub-cells: 'Bodies/Body/Particles Per Cell X' must be even, got 5")

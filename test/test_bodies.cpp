@@ -124,6 +124,62 @@ TEUCHOS_UNIT_TEST(Bodies, ShapesMaterialsAndIdentity) {
   TEST_EQUALITY_CONST(*std::max_element(gSeen.begin(), gSeen.end()), 1);
 }
 
+// Bodies/<name>/Particle Placement = Gauss through the deck, 2D and 3D (np 1 and 2): the mass is
+// rho times the body's volume, and the second moments of the body about its centre are exact,
+// as the Gauss pairs integrate cubics (Uniform sub-box centres get them low by 1 - (d/H)^2).
+TEUCHOS_UNIT_TEST(Bodies, GaussPlacementKeepsMassAndSecondMoments) {
+  auto comm = Tpetra::getDefaultComm();
+  for (int dim : {2, 3}) {
+    ParameterList d("impm");
+    d.sublist("Problem").set("Output Directory", "test_output/bodies_gauss");
+    auto& g = d.sublist("Grid");
+    g.set("Cells X", 6).set("Cells Y", 4).set("Cell Size X", 0.1).set("Cell Size Y", 0.05);
+    if (dim == 3) g.set("Dimension", 3).set("Cells Z", 3).set("Cell Size Z", 0.2);
+    d.sublist("Materials").sublist("steel").set("Young Modulus", 2e11).set("Poisson Ratio", 0.3).set("Density", 7800.0);
+    auto& b = d.sublist("Bodies").sublist("block");
+    b.set("Shape", "Rectangle").set("Material", "steel").set("X Min", 0.1).set("X Max", 0.5).set("Y Min", 0.05)
+        .set("Y Max", 0.2).set("Particles Per Cell X", 2).set("Particles Per Cell Y", 4).set("Particle Placement", "Gauss");
+    if (dim == 3) b.set("Z Min", 0.2).set("Z Max", 0.6).set("Particles Per Cell Z", 2);
+    d.sublist("Integrator").set("Time Step", 1e-7).set("Number of Steps", 1);
+    d.sublist("Output").set("Plot", false).set("Progress", false);
+    impm::validateDeck(d);
+    impm::Simulation sim(d, comm);
+    const impm::ParticleSet& ps = sim.particles();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+    auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.mass);
+    const double lo[3] = {0.1, 0.05, 0.2}, hi[3] = {0.5, 0.2, 0.6};
+    double local[4] = {0, 0, 0, 0}, global[4];  // mass, and mass-weighted second moments per direction
+    for (int p = 0; p < ps.count; ++p) {
+      local[0] += m(p);
+      for (int k = 0; k < dim; ++k) {
+        const double r = x(p, k) - 0.5 * (lo[k] + hi[k]);
+        local[1 + k] += m(p) * r * r;
+      }
+    }
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 4, local, global);
+    const double volume = 0.4 * 0.15 * (dim == 3 ? 0.4 : 1.0);  // 2D: Grid/Thickness 1
+    TEST_FLOATING_EQUALITY(global[0], 7800.0 * volume, 1e-13);
+    for (int k = 0; k < dim; ++k) {
+      const double length = hi[k] - lo[k];
+      TEST_FLOATING_EQUALITY(global[1 + k], 7800.0 * volume * length * length / 12, 1e-12);
+    }
+  }
+  // An odd count per cell, and an unknown value, are rejected naming the key.
+  {
+    ParameterList d = shapesDeck("test_output/bodies_bad");
+    d.sublist("Bodies").sublist("plate").set("Particle Placement", "Gauss");
+    const std::string msg = problemWith(d);
+    TEST_ASSERT(mentions(msg, "'Bodies/plate/Particle Placement' = Gauss") &&
+                mentions(msg, "'Bodies/plate/Particles Per Cell Y' must be even, got 3"));
+  }
+  {
+    ParameterList d = shapesDeck("test_output/bodies_bad");
+    d.sublist("Bodies").sublist("plate").set("Particle Placement", "Gaussian");
+    TEST_ASSERT(mentions(problemWith(d), "Bodies/plate/Particle Placement"));
+  }
+  TEST_ASSERT(!std::filesystem::exists("test_output/bodies_bad"));
+}
+
 // The particle with a given global id sits at the same place whatever the decomposition: each
 // rank re-runs the set-up alone (a communicator of one) and finds its own particles there.
 TEUCHOS_UNIT_TEST(Bodies, GlobalIdsIndependentOfRanks) {

@@ -154,6 +154,59 @@ TEUCHOS_UNIT_TEST(BodyShapes, RectangleOnGridLinesIsUnscaled) {
   }
 }
 
+// Particle Placement (issue 9): the seed beam's depth, H = 0.5 m over 4 cells with 4 particles
+// per cell. The second moment of area b H^3 / 12 sets the bending stiffness; the midpoint rule of
+// the Uniform lattice (sub-cells d = H / 16) gets it low by the factor 1 - (d/H)^2, the Gauss
+// pairs exactly (they integrate cubics in each half cell). Both keep the volume, so the mass.
+TEUCHOS_UNIT_TEST(BodyShapes, GaussPlacementIntegratesTheSecondMomentExactly) {
+  const GridBox g{0.0, 0.0, 0.25, 0.125, 8, 4};
+  const double length = 2.0, depth = 0.5, yc = 0.25, xc = 1.0;
+  const auto beam = impm::makeRectangle(0.0, length, 0.0, depth);
+  const double exactI = kThickness * length * depth * depth * depth / 12;  // about y = yc
+  const double exactIx = kThickness * depth * length * length * length / 12;  // about x = xc
+  auto moments = [&](impm::LatticePoints rule, double& volume, double& iy, double& ix, double& cubic) {
+    const auto pts = impm::fillShape(*beam, g, 4, 4, kThickness, 0, g.nx, false, rule);
+    TEST_EQUALITY((int)pts.size(), 8 * 4 * 16);
+    volume = iy = ix = cubic = 0;
+    for (const ParticlePoint& p : pts) {
+      TEST_EQUALITY(p.volume, (0.25 / 4) * (0.125 / 4) * kThickness);  // equal volumes
+      TEST_ASSERT(beam->contains(p.x, p.y));
+      volume += p.volume;
+      iy += p.volume * (p.y - yc) * (p.y - yc);
+      ix += p.volume * (p.x - xc) * (p.x - xc);
+      cubic += p.volume * p.y * p.y * p.y;
+    }
+  };
+  double volume, iy, ix, cubic;
+  moments(impm::LatticePoints::Gauss, volume, iy, ix, cubic);
+  TEST_FLOATING_EQUALITY(volume, length * depth * kThickness, 1e-14);
+  TEST_FLOATING_EQUALITY(iy, exactI, 1e-13);
+  TEST_FLOATING_EQUALITY(ix, exactIx, 1e-13);
+  TEST_FLOATING_EQUALITY(cubic, kThickness * length * std::pow(depth, 4) / 4, 1e-13);
+  moments(impm::LatticePoints::Uniform, volume, iy, ix, cubic);
+  TEST_FLOATING_EQUALITY(volume, length * depth * kThickness, 1e-14);
+  const double d = 0.125 / 4;
+  TEST_FLOATING_EQUALITY(iy, exactI * (1 - (d / depth) * (d / depth)), 1e-13);  // 0.39% low
+  TEST_COMPARE(std::abs(iy - exactI) / exactI, >, 3e-3);
+
+  // In a cell: the pairs of the half cells, (2k + 1 +- 1/sqrt(3)) h / 4, first cell first.
+  const auto pts = impm::fillShape(*beam, g, 4, 4, kThickness, 0, g.nx, false, impm::LatticePoints::Gauss);
+  const double s = 1 / std::sqrt(3.0);
+  const double expected[4] = {1 - s, 1 + s, 3 - s, 3 + s};
+  for (int b = 0; b < 4; ++b) TEST_FLOATING_EQUALITY(pts[b].y, expected[b] * 0.125 / 4, 1e-14);
+  for (int a = 0; a < 4; ++a) TEST_FLOATING_EQUALITY(pts[4 * a].x, expected[a] * 0.25 / 4, 1e-14);
+
+  // A disk keeps its exact area with Gauss pairs too; odd counts have no pairs.
+  const GridBox u = unitGrid();
+  const auto disk = impm::makeEllipse(0.45, 0.5, 0.3, 0.2);
+  const auto diskPts = impm::fillShape(*disk, u, 2, 4, kThickness, 0, u.nx, true, impm::LatticePoints::Gauss);
+  TEST_FLOATING_EQUALITY(totalVolume(diskPts), kPi * 0.3 * 0.2 * kThickness, 1e-12);
+  for (const ParticlePoint& p : diskPts) TEST_ASSERT(disk->contains(p.x, p.y));
+  const std::string odd = invalidArgumentMessage(
+      [&] { impm::fillShape(*disk, u, 3, 4, kThickness, 0, u.nx, true, impm::LatticePoints::Gauss); });
+  TEST_ASSERT(odd.find("must be even, got 3") != std::string::npos);
+}
+
 TEUCHOS_UNIT_TEST(BodyShapes, SlabsPartitionTheFill) {
   const GridBox g = unitGrid();
   const auto disk = impm::makeEllipse(0.45, 0.5, 0.3, 0.2);
