@@ -656,6 +656,64 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   s.set("Configuration", describe(solver_->parameters()));
 }
 
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
+  state["implicit scalars"] = {double(firstStep_), subStep_, double(stepsSinceAssembly_), double(refreshRequested_),
+                               double(jacobianVersion_), double(preconditionerVersion_), double(halvings_),
+                               double(hardestStepIterations_), smallestSubStep_, largestSubStep_, double(subSteps_),
+                               double(rejectedSubSteps_), double(residualEvaluations_), secondsSetUp_, secondsSolve_,
+                               secondsSolverSetUp_, secondsFinish_};
+  state["implicit newton per step"].assign(newtonPerStep_.begin(), newtonPerStep_.end());
+  state["implicit krylov per newton"].assign(krylovPerNewton_.begin(), krylovPerNewton_.end());
+  state["implicit hardest step norms"] = hardestStepNorms_;
+  if (opt_.fixedParticles) {
+    // The grid's own v and a (owned nodes) with their global ids: per rank.
+    auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto map = dist_.ownedNodeMap();
+    auto& gids = state["node implicit grid kinematics gids"];
+    auto& values = state["node implicit grid kinematics"];
+    for (size_t n = 0; n < k.extent(0); ++n) {
+      gids.push_back(double(map->getGlobalElement((LO)n)));
+      for (int c = 0; c < 2 * Dim; ++c) values.push_back(k(n, c));
+    }
+  }
+}
+
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
+  const std::vector<double>& s = state.at("implicit scalars");
+  firstStep_ = s.at(0) != 0;
+  subStep_ = s.at(1);
+  stepsSinceAssembly_ = int(s.at(2));
+  refreshRequested_ = s.at(3) != 0;
+  jacobianVersion_ = long(s.at(4));
+  preconditionerVersion_ = long(s.at(5));
+  halvings_ = int(s.at(6));
+  hardestStepIterations_ = int(s.at(7));
+  smallestSubStep_ = s.at(8);
+  largestSubStep_ = s.at(9);
+  subSteps_ = (long long)s.at(10);
+  rejectedSubSteps_ = (long long)s.at(11);
+  residualEvaluations_ = long(s.at(12));
+  secondsSetUp_ = s.at(13); secondsSolve_ = s.at(14); secondsSolverSetUp_ = s.at(15); secondsFinish_ = s.at(16);
+  const auto& newton = state.at("implicit newton per step");
+  newtonPerStep_.assign(newton.begin(), newton.end());
+  const auto& krylov = state.at("implicit krylov per newton");
+  krylovPerNewton_.assign(krylov.begin(), krylov.end());
+  hardestStepNorms_ = state.at("implicit hardest step norms");
+  if (opt_.fixedParticles) {
+    const auto& gids = state.at("node implicit grid kinematics gids");
+    const auto& values = state.at("node implicit grid kinematics");
+    auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::OverwriteAll);
+    const auto map = dist_.ownedNodeMap();
+    for (size_t i = 0; i < gids.size(); ++i) {
+      const LO n = map->getLocalElement((GO)gids[i]);
+      if (n == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+      for (int c = 0; c < 2 * Dim; ++c) k(n, c) = values[i * 2 * Dim + c];
+    }
+  }
+}
+
 template class ImplicitNewmark<LinearMpm, 2>;
 template class ImplicitNewmark<UniformGimp, 2>;
 template class ImplicitNewmark<QuadraticLagrange, 2>;

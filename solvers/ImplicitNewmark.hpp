@@ -83,6 +83,11 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void step(double t, double dt) override;
   std::string name() const override;
   void addStatistics(Teuchos::ParameterList& summary) const override;
+  // The first-step flag, the adaptive sub-step, the preconditioner refresh counters, the FE
+  // reference's grid kinematics and the statistics (solvers/Checkpoint.hpp). Not the assembled
+  // P itself: a restarted run assembles it afresh at its first step.
+  void saveState(NamedArrays& state) const override;
+  void restoreState(const NamedArrays& state) override;
 
   // The set-up step() does before solving (grid state at t, loads at t + dt, free dofs); public
   // so that tests can evaluate the residual and the matrix of one step.
