@@ -104,7 +104,10 @@ int main(int argc, char** argv) {
       else std::cout << "  plot: " << sim.outputDirectory() << "/plot.png\n";
     }
   } catch (const impm::DeckError& e) {
-    if (root) std::cerr << "impm: error in deck '" << deckPath << "': " << e.what() << "\n";
+    // (A refused checkpoint names --restart itself: solvers/Checkpoint.hpp.)
+    const std::string what = e.what();
+    if (root && what.rfind("--restart ", 0) == 0) std::cerr << "impm: error: " << what << "\n";
+    else if (root) std::cerr << "impm: error in deck '" << deckPath << "': " << what << "\n";
     return 2;
   } catch (const std::exception& e) {
     if (root) std::cerr << "impm: error: " << e.what() << "\n";

@@ -51,8 +51,10 @@ Run run(ParameterList deck, const Comm& comm, const std::string& dir, int interv
   return r;
 }
 
-// Largest difference between two recorded histories over every column, relative to each
-// column's largest magnitude.
+// Largest difference between two recorded histories over the time, monitor and energy columns,
+// relative to each column's largest magnitude. (Not the momentum: the disks' total momentum is
+// zero, and its recorded round-off depends on the order of the particles on each rank, which
+// another rank count changes; bit for bit at the same rank count, history.csv compares it too.)
 double relativeDifference(const impm::RunResult& a, const impm::RunResult& b) {
   double worst = a.time.size() == b.time.size() ? 0.0 : HUGE_VAL;
   auto compare = [&](const std::vector<double>& x, const std::vector<double>& y) {
@@ -65,8 +67,6 @@ double relativeDifference(const impm::RunResult& a, const impm::RunResult& b) {
   for (const auto& [name, values] : b.computed) compare(a.computed.at(name), values);
   compare(a.kinetic, b.kinetic);
   compare(a.strain, b.strain);
-  compare(a.momentumX, b.momentumX);
-  compare(a.momentumY, b.momentumY);
   return worst;
 }
 
@@ -80,6 +80,12 @@ void checkRestart(const ParameterList& deck, const std::string& name, int steps,
   d.sublist("Integrator").set("Number of Steps", steps);
 
   const Run reference = run(d, comm, base + "_reference", 0, "");
+  // A history with something happening in it: strain energy (or a stress monitor) away from zero.
+  double strain = 0;
+  for (double e : reference.result.strain) strain = std::max(strain, e);
+  for (const auto& [monitor, values] : reference.result.computed)
+    for (double v : values) strain = std::max(strain, std::abs(v));
+  TEST_COMPARE(strain, >, 0.0);
   const Run written = run(d, comm, base + "_checkpointed", k, "");
   // Checkpoints do not disturb the run; the latest (step k) is there.
   TEST_ASSERT(written.csv == reference.csv);
@@ -130,6 +136,10 @@ ParameterList deckOf(const std::string& file) {
 
 TEUCHOS_UNIT_TEST(Restart, ExplicitCollidingDisks) {
   ParameterList deck = deckOf("colliding_disks_explicit_mpm.yaml");
+  // The disks start 1 cm apart, so that they are in contact (stresses, strain energy) before the
+  // checkpoint; the upper one straddles the np 2 slab boundary x = 0.5, so particles migrate.
+  deck.sublist("Bodies").sublist("lower disk").set("Center X", 0.355).set("Center Y", 0.355);
+  deck.sublist("Bodies").sublist("upper disk").set("Center X", 0.645).set("Center Y", 0.645);
   deck.sublist("Output").set("VTK Interval", 50).set("History Interval", 5);
   checkRestart(deck, "disks", 120, 70, out, success);
 }
