@@ -1,5 +1,6 @@
 # `impm DECK --restart DIR` on bad checkpoints: a truncated rank file, a checkpoint of another
-# deck, one whose header names another impm version, a directory that is no checkpoint. Each must
+# deck, one whose header names another impm version, a directory that is no checkpoint, one of a
+# step beyond the deck's Number of Steps (and a negative Checkpoint Interval in the deck). Each must
 # exit 2 with one line of impm's on stderr naming what differs, and overwrite nothing: the
 # output directory's history.csv and the checkpoint stay as they were. Then a good restart of the
 # same checkpoint completes and gives the uninterrupted run's history.csv. The truncated case
@@ -83,6 +84,21 @@ expect_refused(truncated_np2 "${WORK}/bar.yaml" "${WORK}/truncated" 2 "rank_0000
 expect_refused(other_deck "${WORK}/other.yaml" "${WORK}/out/checkpoint" 1 "Young Modulus' is")
 expect_refused(other_version "${WORK}/bar.yaml" "${WORK}/version" 1 "impm version ' 0.0 (another impm)'")
 expect_refused(not_a_checkpoint "${WORK}/bar.yaml" "${WORK}/empty" 1 "no header.xml")
+
+# A negative interval is a deck error: exit 2, the key named, no output directory.
+string(REPLACE "Checkpoint Interval: 20" "Checkpoint Interval: -1" negative "${deck}")
+string(REPLACE "${WORK}/out" "${WORK}/negative_out" negative "${negative}")
+file(WRITE "${WORK}/negative.yaml" "${negative}")
+execute_process(COMMAND "${IMPM}" "${WORK}/negative.yaml" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "'Output/Checkpoint Interval' must be 0" OR EXISTS "${WORK}/negative_out")
+  message(FATAL_ERROR "negative Checkpoint Interval: exit ${rc}, expected 2 naming the key and no output: ${err}")
+endif()
+message(STATUS "negative_interval (np 1): ok: ${err}")
+
+# A checkpoint beyond the deck's Number of Steps.
+string(REGEX REPLACE "Number of Steps: [^\n]*" "Number of Steps: 10" short "${deck}")
+file(WRITE "${WORK}/short.yaml" "${short}")
+expect_refused(beyond_steps "${WORK}/short.yaml" "${WORK}/out/checkpoint" 1 "beyond this deck's 'Integrator/Number of Steps' = 10")
 
 # The good checkpoint, restarted in place: the same history.csv as the run that wrote it.
 execute_process(COMMAND "${IMPM}" "${WORK}/bar.yaml" --restart "${WORK}/out/checkpoint" RESULT_VARIABLE rc
