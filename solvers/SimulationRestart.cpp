@@ -36,6 +36,10 @@ void Simulation::restartFrom(const std::string& dir) {
   if (c.step > steps_)
     throw CheckpointError("--restart '" + dir + "': the checkpoint is of step " + std::to_string(c.step) +
                           ", beyond this deck's 'Integrator/Number of Steps' = " + std::to_string(steps_));
+  // Output may differ from the run that wrote it, but energy columns cannot start half-way.
+  if (energyHistory_ && c.state["history kinetic"].size() != c.state["history time"].size())
+    throw CheckpointError("--restart '" + dir + "': the run that wrote the checkpoint recorded no energy and momentum; "
+                          "set 'Output/Energy And Momentum' to false, as it was there");
   // In place of the deck's initial particles (the views keep their kind: FE reference u, history).
   particles_.count = 0;
   particles_.unpackAppend(c.particles);

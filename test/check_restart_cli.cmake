@@ -1,10 +1,11 @@
 # `impm DECK --restart DIR` on bad checkpoints: a truncated rank file, a checkpoint of another
 # deck, one whose header names another impm version, a directory that is no checkpoint, one of a
-# step beyond the deck's Number of Steps (and a negative Checkpoint Interval in the deck). Each must
-# exit 2 with one line of impm's on stderr naming what differs, and overwrite nothing: the
-# output directory's history.csv and the checkpoint stay as they were. Then a good restart of the
-# same checkpoint completes and gives the uninterrupted run's history.csv. The truncated case
-# also runs at np 2 (every rank ends with exit 2). Invoked by ctest (impm_restart_cli).
+# step beyond the deck's Number of Steps, one without the energy columns the restart asks for
+# (and a negative Checkpoint Interval in the deck). Each must exit 2 with one line of impm's on
+# stderr naming what differs, and overwrite nothing: the output directory's history.csv and the
+# checkpoint stay as they were. Then a good restart of the same checkpoint completes and gives
+# the uninterrupted run's history.csv. The truncated case also runs at np 2 (every rank ends
+# with exit 2). Invoked by ctest (impm_restart_cli).
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 file(READ "${SRC}/../apps/bar_explicit_mpm_plane_stress.yaml" deck)
@@ -99,6 +100,11 @@ message(STATUS "negative_interval (np 1): ok: ${err}")
 string(REGEX REPLACE "Number of Steps: [^\n]*" "Number of Steps: 10" short "${deck}")
 file(WRITE "${WORK}/short.yaml" "${short}")
 expect_refused(beyond_steps "${WORK}/short.yaml" "${WORK}/out/checkpoint" 1 "beyond this deck's 'Integrator/Number of Steps' = 10")
+
+# Energy columns asked for by the restart but not recorded before the checkpoint.
+string(REPLACE "Checkpoint Interval: 20" "Checkpoint Interval: 20\n    Energy And Momentum: true" energy "${deck}")
+file(WRITE "${WORK}/energy.yaml" "${energy}")
+expect_refused(energy_columns "${WORK}/energy.yaml" "${WORK}/out/checkpoint" 1 "recorded no energy and momentum")
 
 # The good checkpoint, restarted in place: the same history.csv as the run that wrote it.
 execute_process(COMMAND "${IMPM}" "${WORK}/bar.yaml" --restart "${WORK}/out/checkpoint" RESULT_VARIABLE rc
