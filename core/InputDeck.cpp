@@ -386,8 +386,8 @@ RCP<const ParameterList> validParameters() {
           "temporary directory and renamed when complete). `impm DECK --restart OUTPUT/checkpoint` continues from it: "
           "the deck must be the same except Output, Problem/Output Directory and Integrator/Number of Steps; "
           "history.csv is rewritten from the checkpoint's rows and continued, and equals the uninterrupted run's "
-          "(bit for bit at the same rank and thread count, except an implicit run whose preconditioner is refreshed "
-          "less often than every step: the restart builds a fresh one). "
+          "(bit for bit at the same rank and thread count, except assembled Newton with an iterative linear solver "
+          "whose preconditioner is refreshed less often than every step: the restart builds a fresh one). "
           "Independent of History and VTK Interval (a checkpoint holds every history row written before it)");
     p.set("Energy And Momentum", false,
           "add kinetic, strain and total energy and linear momentum columns to history.csv, and their drift to "

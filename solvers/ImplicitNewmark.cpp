@@ -305,6 +305,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
   const bool trialTangent =
       mat_.anyFiniteStrain() && !seedGimpStiffness_ && (!jacobianFree || opt_.preconditionerEveryNewton);
   if (PCurrent_ && !trialTangent) return P_;
+  if (!restoredP_.empty()) takeRestoredP();
   if (trialTangent) {
     // grad u of the trial displacement at each particle, for the stiffness kernel.
     scatterUnknowns(u);
@@ -666,6 +667,24 @@ void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
   state["implicit newton per step"].assign(newtonPerStep_.begin(), newtonPerStep_.end());
   state["implicit krylov per newton"].assign(krylovPerNewton_.begin(), krylovPerNewton_.end());
   state["implicit hardest step norms"] = hardestStepNorms_;
+  // A Jacobian-free run reuses P (and its preconditioner) for later steps: kept, per rank.
+  const bool jacobianFree = solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free";
+  state["implicit ranks"] = {double(dist_.comm()->getSize())};
+  if (jacobianFree && !P_.is_null()) {
+    auto& rows = state["node implicit P"];
+    const auto rowMap = P_->getRowMap(), colMap = P_->getColMap();
+    typename CrsMatrix::local_inds_host_view_type cols;
+    typename CrsMatrix::values_host_view_type values;
+    for (LO r = 0; r < (LO)P_->getNodeNumRows(); ++r) {
+      P_->getLocalRowView(r, cols, values);
+      rows.push_back(double(rowMap->getGlobalElement(r)));
+      rows.push_back(double(cols.extent(0)));
+      for (size_t k = 0; k < cols.extent(0); ++k) {
+        rows.push_back(double(colMap->getGlobalElement(cols(k))));
+        rows.push_back(values(k));
+      }
+    }
+  }
   if (opt_.fixedParticles) {
     // The grid's own v and a (owned nodes) with their global ids: per rank.
     auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::ReadOnly);
@@ -701,6 +720,9 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
   const auto& krylov = state.at("implicit krylov per newton");
   krylovPerNewton_.assign(krylov.begin(), krylov.end());
   hardestStepNorms_ = state.at("implicit hardest step norms");
+  const auto ranks = state.find("implicit ranks"), P = state.find("node implicit P");
+  if (ranks != state.end() && P != state.end() && int(ranks->second.at(0)) == dist_.comm()->getSize())
+    restoredP_ = P->second;
   if (opt_.fixedParticles) {
     const auto& gids = state.at("node implicit grid kinematics gids");
     const auto& values = state.at("node implicit grid kinematics");
@@ -712,6 +734,38 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
       for (int c = 0; c < 2 * Dim; ++c) k(n, c) = values[i * 2 * Dim + c];
     }
   }
+}
+
+// The checkpoint's P in place of an assembly, when its rows are this step's free dofs on every
+// rank (the restart's first step has the checkpoint's particles, so they are); the graph is
+// rebuilt at the next assembly (patternKey_ is empty), which refreshes the preconditioner.
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::takeRestoredP() {
+  std::vector<GO> rowGids;
+  std::vector<std::vector<GO>> cols;
+  std::vector<std::vector<double>> values;
+  size_t longest = 1;
+  for (size_t i = 0; i < restoredP_.size();) {
+    rowGids.push_back(GO(restoredP_[i]));
+    const size_t n = size_t(restoredP_[i + 1]);
+    i += 2;
+    cols.emplace_back(n);
+    values.emplace_back(n);
+    for (size_t k = 0; k < n; ++k, i += 2) {
+      cols.back()[k] = GO(restoredP_[i]);
+      values.back()[k] = restoredP_[i + 1];
+    }
+    longest = std::max(longest, n);
+  }
+  restoredP_.clear();
+  const int sameHere = rowGids == freeGids_ ? 1 : 0;
+  int same = 0;
+  Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
+  if (!same) return;
+  P_ = Teuchos::rcp(new CrsMatrix(unknownMap_, longest));
+  for (size_t r = 0; r < rowGids.size(); ++r)
+    P_->insertGlobalValues(rowGids[r], Teuchos::ArrayView<const GO>(cols[r]), Teuchos::ArrayView<const double>(values[r]));
+  P_->fillComplete(unknownMap_, unknownMap_);
 }
 
 template class ImplicitNewmark<LinearMpm, 2>;
