@@ -11,6 +11,9 @@
 //
 // Options:
 //   --output DIR        override the deck's Problem/Output Directory
+//   --restart DIR       continue from the checkpoint in DIR (Output/Checkpoint Interval writes
+//                       OUTPUT/checkpoint); the deck must be the one that wrote it (except Output,
+//                       Problem/Output Directory and Integrator/Number of Steps)
 //   --timers            time the main phases (Teuchos::TimeMonitor): a table at the end of the
 //                       run, and the totals in summary.yaml (Timers)
 //   --help              usage and every valid parameter with its documentation
@@ -33,7 +36,7 @@
 
 namespace {
 void usage(std::ostream& os) {
-  os << "usage: impm DECK.{yaml,xml} [--output DIR] [--timers]\n"
+  os << "usage: impm DECK.{yaml,xml} [--output DIR] [--restart CHECKPOINT_DIR] [--timers]\n"
         "       impm --help | --print-defaults\n";
 }
 }  // namespace
@@ -57,7 +60,7 @@ int main(int argc, char** argv) {
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
 
-  std::string deckPath, outputDir;
+  std::string deckPath, outputDir, restartDir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--timers") {
@@ -65,6 +68,9 @@ int main(int argc, char** argv) {
     } else if (a == "--output") {
       if (i + 1 >= argc) { if (root) std::cerr << "impm: error: --output needs a directory\n"; return 2; }
       outputDir = argv[++i];
+    } else if (a == "--restart") {
+      if (i + 1 >= argc) { if (root) std::cerr << "impm: error: --restart needs a checkpoint directory\n"; return 2; }
+      restartDir = argv[++i];
     } else if (a.rfind("--", 0) == 0) {
       if (root) { std::cerr << "impm: error: unknown option '" << a << "'\n"; usage(std::cerr); }
       return 2;
@@ -81,6 +87,7 @@ int main(int argc, char** argv) {
     auto deck = impm::readDeck(deckPath);
     impm::validateDeck(*deck);
     impm::Simulation sim(*deck, comm, outputDir);
+    if (!restartDir.empty()) sim.restartFrom(restartDir);
     sim.run(std::cout);
     if (impm::PhaseTimer::enabled()) {
       // Collective; the table is printed by rank 0. Only impm's phases (NOX, Belos keep their own).
@@ -97,7 +104,10 @@ int main(int argc, char** argv) {
       else std::cout << "  plot: " << sim.outputDirectory() << "/plot.png\n";
     }
   } catch (const impm::DeckError& e) {
-    if (root) std::cerr << "impm: error in deck '" << deckPath << "': " << e.what() << "\n";
+    // (A refused checkpoint names --restart itself: solvers/Checkpoint.hpp.)
+    const std::string what = e.what();
+    if (root && what.rfind("--restart ", 0) == 0) std::cerr << "impm: error: " << what << "\n";
+    else if (root) std::cerr << "impm: error in deck '" << deckPath << "': " << what << "\n";
     return 2;
   } catch (const std::exception& e) {
     if (root) std::cerr << "impm: error: " << e.what() << "\n";

@@ -395,6 +395,15 @@ RCP<const ParameterList> validParameters() {
     p.set("VTK Interval", 0, "steps between VTU particle files (0: first and last step only)");
     p.set("Plot", true, "write plot.png (computed against exact) with python3-matplotlib");
     p.set("Progress", true, "print a progress line with ETA on runs longer than a few seconds");
+    p.set("Checkpoint Interval", 0,
+          "steps between checkpoints (0: none): every particle field, the integrator's state and the history rows "
+          "so far, in OUTPUT/checkpoint (a link to OUTPUT/checkpoint_<step>; only the latest is kept, written to a "
+          "temporary directory and renamed when complete). `impm DECK --restart OUTPUT/checkpoint` continues from it: "
+          "the deck must be the same except Output, Problem/Output Directory and Integrator/Number of Steps; "
+          "history.csv is rewritten from the checkpoint's rows and continued, and equals the uninterrupted run's "
+          "(bit for bit at the same rank and thread count, except assembled Newton with an iterative linear solver "
+          "whose preconditioner is refreshed less often than every step: the restart builds a fresh one). "
+          "Independent of History and VTK Interval (a checkpoint holds every history row written before it)");
     p.set("Energy And Momentum", false,
           "add kinetic, strain and total energy and linear momentum columns to history.csv, and their drift to "
           "summary.yaml (Energy, Momentum)");

@@ -66,22 +66,17 @@ double History::monitorValue(const Monitor& mon) const {
 }
 
 void History::record(double t, RunResult& r) {
-  const bool root = comm_->getRank() == 0;
   std::vector<double> local(monitors_.size()), global(monitors_.size());
   for (size_t k = 0; k < monitors_.size(); ++k) local[k] = monitorValue(monitors_[k]);
   if (!monitors_.empty())
     Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, (int)local.size(), local.data(), global.data());
   r.time.push_back(t);
-  if (root) csv_ << t;
   for (size_t k = 0; k < monitors_.size(); ++k) {
     const Monitor& m = monitors_[k];
     r.computed[m.name].push_back(global[k]);
-    if (root) csv_ << ',' << global[k];
     if (withExact_[k]) {
       const double X[3] = {m.x0, m.y0, m.z0};
-      const double ex = exact_->valueAt(m.quantity, X, t);
-      r.exact[m.name].push_back(ex);
-      if (root) csv_ << ',' << ex;
+      r.exact[m.name].push_back(exact_->valueAt(m.quantity, X, t));
     }
   }
   if (energy_) {
@@ -93,18 +88,63 @@ void History::record(double t, RunResult& r) {
     r.momentumY.push_back(e.momentum[1]);
     r.momentumZ.push_back(e.momentum[2]);
     if (r.time.size() == 1) momentumScale_ = e.momentumScale;
-    if (root) {
-      csv_ << ',' << e.kinetic << ',' << e.strain << ',' << e.total() << ',' << e.momentum[0] << ',' << e.momentum[1];
-      if (particles_.dim == 3) csv_ << ',' << e.momentum[2];
-    }
   }
   if (field_) {
     const auto [rms, max] = displacementFieldError(t);
     r.fieldErrorRms.push_back(rms);
     r.fieldErrorMax.push_back(max);
-    if (root) csv_ << ',' << rms << ',' << max;
   }
-  if (root) csv_ << '\n';
+  if (comm_->getRank() == 0) writeRow(r, r.time.size() - 1);
+}
+
+void History::writeRow(const RunResult& r, size_t i) {
+  csv_ << r.time[i];
+  for (size_t k = 0; k < monitors_.size(); ++k) {
+    csv_ << ',' << r.computed.at(monitors_[k].name)[i];
+    if (withExact_[k]) csv_ << ',' << r.exact.at(monitors_[k].name)[i];
+  }
+  if (energy_) {
+    // (kinetic + strain: ParticleTotals::total().)
+    csv_ << ',' << r.kinetic[i] << ',' << r.strain[i] << ',' << r.kinetic[i] + r.strain[i] << ',' << r.momentumX[i] << ','
+         << r.momentumY[i];
+    if (particles_.dim == 3) csv_ << ',' << r.momentumZ[i];
+  }
+  if (field_) csv_ << ',' << r.fieldErrorRms[i] << ',' << r.fieldErrorMax[i];
+  csv_ << '\n';
+}
+
+void History::replay(const RunResult& r) {
+  if (comm_->getRank() != 0) return;
+  for (size_t i = 0; i < r.time.size(); ++i) writeRow(r, i);
+}
+
+void History::saveState(const RunResult& r, NamedArrays& state) const {
+  state["history time"] = r.time;
+  for (const auto& [name, values] : r.computed) state["history computed " + name] = values;
+  for (const auto& [name, values] : r.exact) state["history exact " + name] = values;
+  state["history kinetic"] = r.kinetic;
+  state["history strain"] = r.strain;
+  state["history momentum x"] = r.momentumX;
+  state["history momentum y"] = r.momentumY;
+  state["history momentum z"] = r.momentumZ;
+  state["history field error rms"] = r.fieldErrorRms;
+  state["history field error max"] = r.fieldErrorMax;
+  state["history momentum scale"] = {momentumScale_};
+}
+
+void History::restoreState(const NamedArrays& state, RunResult& r) {
+  r.time = state.at("history time");
+  for (const auto& m : monitors_) r.computed[m.name] = state.at("history computed " + m.name);
+  for (size_t k = 0; k < monitors_.size(); ++k)
+    if (withExact_[k]) r.exact[monitors_[k].name] = state.at("history exact " + monitors_[k].name);
+  r.kinetic = state.at("history kinetic");
+  r.strain = state.at("history strain");
+  r.momentumX = state.at("history momentum x");
+  r.momentumY = state.at("history momentum y");
+  r.momentumZ = state.at("history momentum z");
+  r.fieldErrorRms = state.at("history field error rms");
+  r.fieldErrorMax = state.at("history field error max");
+  momentumScale_ = state.at("history momentum scale").at(0);
 }
 
 std::pair<double, double> History::displacementFieldError(double t) const {

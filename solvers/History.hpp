@@ -15,6 +15,7 @@
 #include "core/ParticleSet.hpp"
 #include "physics/ExactReference.hpp"
 #include "physics/Materials.hpp"
+#include "solvers/Integrator.hpp"
 
 namespace impm {
 
@@ -68,9 +69,16 @@ class History {
   void finish(RunResult& r) const;
   // After particles migrate: each monitor's rank and local index from its global id.
   void locateMonitors();
+  // Restart: the recorded rows of r (and the momentum scale) as named arrays for a checkpoint,
+  // and back; replay() writes the restored rows into the file open() started, as record()
+  // wrote them (so that a restarted run's history.csv is the uninterrupted run's).
+  void saveState(const RunResult& r, NamedArrays& state) const;
+  void restoreState(const NamedArrays& state, RunResult& r);
+  void replay(const RunResult& r);
 
  private:
   double monitorValue(const Monitor& m) const;
+  void writeRow(const RunResult& r, size_t row);  // rank 0
   // (RMS, max) of the particles' displacement error against the exact field at t. Collective.
   std::pair<double, double> displacementFieldError(double t) const;
 

@@ -305,6 +305,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
   const bool trialTangent =
       mat_.anyFiniteStrain() && !seedGimpStiffness_ && (!jacobianFree || opt_.preconditionerEveryNewton);
   if (PCurrent_ && !trialTangent) return P_;
+  if (!restoredP_.empty()) takeRestoredP();
   if (trialTangent) {
     // grad u of the trial displacement at each particle, for the stiffness kernel.
     scatterUnknowns(u);
@@ -654,6 +655,117 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   s.set("Seconds NOX Set-Up", secondsSolverSetUp_);
   s.set("Seconds Particle Update", secondsFinish_);
   s.set("Configuration", describe(solver_->parameters()));
+}
+
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
+  state["implicit scalars"] = {double(firstStep_), subStep_, double(stepsSinceAssembly_), double(refreshRequested_),
+                               double(jacobianVersion_), double(preconditionerVersion_), double(halvings_),
+                               double(hardestStepIterations_), smallestSubStep_, largestSubStep_, double(subSteps_),
+                               double(rejectedSubSteps_), double(residualEvaluations_), secondsSetUp_, secondsSolve_,
+                               secondsSolverSetUp_, secondsFinish_};
+  state["implicit newton per step"].assign(newtonPerStep_.begin(), newtonPerStep_.end());
+  state["implicit krylov per newton"].assign(krylovPerNewton_.begin(), krylovPerNewton_.end());
+  state["implicit hardest step norms"] = hardestStepNorms_;
+  // A Jacobian-free run reuses P (and its preconditioner) for later steps: kept, per rank.
+  const bool jacobianFree = solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free";
+  state["implicit ranks"] = {double(dist_.comm()->getSize())};
+  if (jacobianFree && !P_.is_null()) {
+    auto& rows = state["node implicit P"];
+    const auto rowMap = P_->getRowMap(), colMap = P_->getColMap();
+    typename CrsMatrix::local_inds_host_view_type cols;
+    typename CrsMatrix::values_host_view_type values;
+    for (LO r = 0; r < (LO)P_->getNodeNumRows(); ++r) {
+      P_->getLocalRowView(r, cols, values);
+      rows.push_back(double(rowMap->getGlobalElement(r)));
+      rows.push_back(double(cols.extent(0)));
+      for (size_t k = 0; k < cols.extent(0); ++k) {
+        rows.push_back(double(colMap->getGlobalElement(cols(k))));
+        rows.push_back(values(k));
+      }
+    }
+  }
+  if (opt_.fixedParticles) {
+    // The grid's own v and a (owned nodes) with their global ids: per rank.
+    auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto map = dist_.ownedNodeMap();
+    auto& gids = state["node implicit grid kinematics gids"];
+    auto& values = state["node implicit grid kinematics"];
+    for (size_t n = 0; n < k.extent(0); ++n) {
+      gids.push_back(double(map->getGlobalElement((LO)n)));
+      for (int c = 0; c < 2 * Dim; ++c) values.push_back(k(n, c));
+    }
+  }
+}
+
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
+  const std::vector<double>& s = state.at("implicit scalars");
+  firstStep_ = s.at(0) != 0;
+  subStep_ = s.at(1);
+  stepsSinceAssembly_ = int(s.at(2));
+  refreshRequested_ = s.at(3) != 0;
+  jacobianVersion_ = long(s.at(4));
+  preconditionerVersion_ = long(s.at(5));
+  halvings_ = int(s.at(6));
+  hardestStepIterations_ = int(s.at(7));
+  smallestSubStep_ = s.at(8);
+  largestSubStep_ = s.at(9);
+  subSteps_ = (long long)s.at(10);
+  rejectedSubSteps_ = (long long)s.at(11);
+  residualEvaluations_ = long(s.at(12));
+  secondsSetUp_ = s.at(13); secondsSolve_ = s.at(14); secondsSolverSetUp_ = s.at(15); secondsFinish_ = s.at(16);
+  const auto& newton = state.at("implicit newton per step");
+  newtonPerStep_.assign(newton.begin(), newton.end());
+  const auto& krylov = state.at("implicit krylov per newton");
+  krylovPerNewton_.assign(krylov.begin(), krylov.end());
+  hardestStepNorms_ = state.at("implicit hardest step norms");
+  const auto ranks = state.find("implicit ranks"), P = state.find("node implicit P");
+  if (ranks != state.end() && P != state.end() && int(ranks->second.at(0)) == dist_.comm()->getSize())
+    restoredP_ = P->second;
+  if (opt_.fixedParticles) {
+    const auto& gids = state.at("node implicit grid kinematics gids");
+    const auto& values = state.at("node implicit grid kinematics");
+    auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::OverwriteAll);
+    const auto map = dist_.ownedNodeMap();
+    for (size_t i = 0; i < gids.size(); ++i) {
+      const LO n = map->getLocalElement((GO)gids[i]);
+      if (n == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+      for (int c = 0; c < 2 * Dim; ++c) k(n, c) = values[i * 2 * Dim + c];
+    }
+  }
+}
+
+// The checkpoint's P in place of an assembly, when its rows are this step's free dofs on every
+// rank (the restart's first step has the checkpoint's particles, so they are); the graph is
+// rebuilt at the next assembly (patternKey_ is empty), which refreshes the preconditioner.
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::takeRestoredP() {
+  std::vector<GO> rowGids;
+  std::vector<std::vector<GO>> cols;
+  std::vector<std::vector<double>> values;
+  size_t longest = 1;
+  for (size_t i = 0; i < restoredP_.size();) {
+    rowGids.push_back(GO(restoredP_[i]));
+    const size_t n = size_t(restoredP_[i + 1]);
+    i += 2;
+    cols.emplace_back(n);
+    values.emplace_back(n);
+    for (size_t k = 0; k < n; ++k, i += 2) {
+      cols.back()[k] = GO(restoredP_[i]);
+      values.back()[k] = restoredP_[i + 1];
+    }
+    longest = std::max(longest, n);
+  }
+  restoredP_.clear();
+  const int sameHere = rowGids == freeGids_ ? 1 : 0;
+  int same = 0;
+  Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
+  if (!same) return;
+  P_ = Teuchos::rcp(new CrsMatrix(unknownMap_, longest));
+  for (size_t r = 0; r < rowGids.size(); ++r)
+    P_->insertGlobalValues(rowGids[r], Teuchos::ArrayView<const GO>(cols[r]), Teuchos::ArrayView<const double>(values[r]));
+  P_->fillComplete(unknownMap_, unknownMap_);
 }
 
 template class ImplicitNewmark<LinearMpm, 2>;

@@ -83,6 +83,12 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void step(double t, double dt) override;
   std::string name() const override;
   void addStatistics(Teuchos::ParameterList& summary) const override;
+  // The first-step flag, the adaptive sub-step, the preconditioner refresh counters, the FE
+  // reference's grid kinematics and the statistics (solvers/Checkpoint.hpp); and, at the same
+  // rank count, the assembled P a Jacobian-free run keeps between refreshes (its preconditioner
+  // is rebuilt from the same values). At another rank count P is assembled afresh.
+  void saveState(NamedArrays& state) const override;
+  void restoreState(const NamedArrays& state) override;
 
   // The set-up step() does before solving (grid state at t, loads at t + dt, free dofs); public
   // so that tests can evaluate the residual and the matrix of one step.
@@ -149,6 +155,11 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   int blockNodes_ = 2, blockStride_ = 1;
   bool seedGimpStiffness_ = false;  // the seed's overlap-integrated K (GIMP only)
   Teuchos::RCP<MultiVector> gridKinematics_;  // fixed particles: grid v, a at the end of the last step
+
+  // Restart: the checkpoint's P (per row: gid, entry count, then column gid and value pairs),
+  // taken as P_ at the first jacobianMatrix() when its rows are this step's free dofs.
+  std::vector<double> restoredP_;
+  void takeRestoredP();
 
   std::vector<int> newtonPerStep_, krylovPerNewton_;
   int halvings_ = 0;

@@ -187,6 +187,8 @@ RunResult Simulation::run(std::ostream& log) {
   const int historyInterval = std::max(1, out.get<int>("History Interval"));
   const int vtkInterval = out.get<int>("VTK Interval");
   const bool progress = out.get<bool>("Progress");
+  const int checkpointInterval = out.get<int>("Checkpoint Interval");
+  const int firstStep = restartStep_;
 
   // Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.
   rethrowOnEveryRank(*comm_, rank == 0, [&] {
@@ -254,15 +256,33 @@ RunResult Simulation::run(std::ostream& log) {
     rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
   };
 
-  history.record(0.0, r);
-  keepState(0.0, 0);
-  writeVtk(0.0);
+  if (restarted_) {
+    // The checkpoint's rows, as the interrupted run wrote them; its VTU files that are in this
+    // output directory stay listed in particles.pvd, and the new ones continue their numbering.
+    history.restoreState(restartState_, r);
+    history.locateMonitors();
+    history.replay(r);
+    for (int m = 0; m <= firstStep; ++m) {
+      if (m > 0 && (vtkInterval <= 0 || m % vtkInterval != 0 || m == steps_)) continue;
+      char stem[64];
+      std::snprintf(stem, sizeof stem, "particles_%05d", vtkCount++);
+      rethrowOnEveryRank(*comm_, rank == 0, [&] {
+        bool present = true;
+        for (int q = 0; q < comm_->getSize(); ++q) present = present && fs::exists(outputDir_ + "/" + PvdIndex::pieceName(stem, q));
+        if (present) pvd.add(m * dt_, stem);
+      });
+    }
+  } else {
+    history.record(0.0, r);
+    writeVtk(0.0);
+  }
+  keepState(firstStep * dt_, firstStep);
   const bool tty = isatty(fileno(stderr));
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   auto lastPrint = start;
   bool printedProgress = false;
-  for (int n = 0; n < steps_; ++n) {
+  for (int n = firstStep; n < steps_; ++n) {
     const double t = n * dt_;
     try {
       integrator_->step(t, dt_);
@@ -318,12 +338,13 @@ RunResult Simulation::run(std::ostream& log) {
       keepState(tNew, n + 1);
     }
     if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);
+    if (checkpointInterval > 0 && (n + 1) % checkpointInterval == 0) writeCheckpointAt(n + 1, r, history);
     if (progress && rank == 0) {
       const auto now = clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
       const double sinceLast = std::chrono::duration<double>(now - lastPrint).count();
       if (elapsed > 3.0 && sinceLast > (tty ? 0.5 : 10.0)) {
-        const double eta = elapsed / (n + 1) * (steps_ - n - 1);
+        const double eta = elapsed / (n + 1 - firstStep) * (steps_ - n - 1);
         std::fprintf(stderr, "%sstep %d/%d  t = %.4e s  %3.0f%%  elapsed %.1f s  ETA %.1f s%s", tty ? "\r" : "", n + 1,
                      steps_, tNew, 100.0 * (n + 1) / steps_, elapsed, eta, tty ? "   " : "\n");
         lastPrint = now;
@@ -333,7 +354,7 @@ RunResult Simulation::run(std::ostream& log) {
   }
   if (printedProgress && tty && rank == 0) std::fprintf(stderr, "\n");
   r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
-  r.particleStepsPerSecond = r.wallSeconds > 0 ? double(r.particles) * steps_ / r.wallSeconds : 0.0;
+  r.particleStepsPerSecond = r.wallSeconds > 0 ? double(r.particles) * (steps_ - firstStep) / r.wallSeconds : 0.0;
   writeVtk(steps_ * dt_);
   history.close();
   history.finish(r);

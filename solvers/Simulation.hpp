@@ -38,6 +38,11 @@ class Simulation {
   // Integrates the deck's number of steps and writes the outputs. `log` gets the progress
   // line and the error report (rank 0).
   RunResult run(std::ostream& log);
+  // Continues from the checkpoint in `dir` (solvers/Checkpoint.hpp; SimulationRestart.cpp):
+  // reads and checks it against this deck (CheckpointError, exit 2, before anything is
+  // written) and takes its particles and the integrator's state; run() then starts at its step
+  // and rewrites history.csv from its rows. Collective; call before run().
+  void restartFrom(const std::string& dir);
 
   const ParticleSet& particles() const { return particles_; }
   const GridDistribution& distribution() const { return *dist_; }
@@ -64,6 +69,8 @@ class Simulation {
   // What to change when the run diverged (the time step, with the explicit critical step).
   std::string timeStepAdvice() const;
   void writeSummary(const RunResult& r) const;
+  // Output/Checkpoint Interval: the state after `step` (particles, integrator, history rows).
+  void writeCheckpointAt(int step, const RunResult& r, const History& history) const;
   // The particle nearest a point at t = 0 over all ranks.
   void nearestParticle(const Point& point, Monitor& m) const;
   const BodySpec& bodyNamed(const std::string& key, const std::string& name) const;
@@ -103,6 +110,10 @@ class Simulation {
   double criticalStep_ = 0;  // explicit: 0.7 / (c_p sqrt(1/hx^2 + 1/hy^2 [+ 1/hz^2])) (Stability Factor 1); 0 for implicit runs
   int steps_ = 0;
   bool energyHistory_ = false;
+  // Restart (restartFrom): the step run() starts at and the checkpoint's history rows.
+  int restartStep_ = 0;
+  bool restarted_ = false;
+  NamedArrays restartState_;
 };
 
 }  // namespace impm

@@ -150,6 +150,9 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   const ParameterList& in = deck_.sublist("Integrator");
   dt_ = positive(in, "Integrator", "Time Step");
   steps_ = positiveInt(in, "Integrator", "Number of Steps");
+  if (deck_.sublist("Output").get<int>("Checkpoint Interval") < 0)
+    throw DeckError("'Output/Checkpoint Interval' must be 0 (no checkpoints) or positive, got " +
+                    std::to_string(deck_.sublist("Output").get<int>("Checkpoint Interval")));
   checkProblemSize(in.get<std::string>("Type") == "Implicit");
 
   std::vector<ConstraintSpec> cspecs = buildConstraints();
