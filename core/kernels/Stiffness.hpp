@@ -211,7 +211,8 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
           const double Jd = determinant<Dim>(dF);
           inverse<Dim>(dF, Jd, inv);
           double hTrial[ParticleSet::kHistoryCount];  // the stress update's copy (the trial state is discarded)
-          for (int i = 0; i < ParticleSet::kHistoryCount; ++i) hTrial[i] = h[i];
+          if (withHistory)
+            for (int i = 0; i < ParticleSet::kHistoryCount; ++i) hTrial[i] = h[i];
           law.template stress<Dim>(mat, s, G, F, withHistory ? hTrial : nullptr, s);
           Vp *= Jd;
           for (int n = 0; n < nn; ++n) {  // grad S on the deformed domain: dF^-T grad S
