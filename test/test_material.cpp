@@ -410,7 +410,8 @@ double j2TangentMismatch(const J2Driver<Dim>& d, const double (&G)[Dim][Dim], do
 
 // States: a rotated, stretched history that has yielded (alpha > 0, b_e != I), then from it an
 // elastic unloading step, a plastic step in a random direction, and a large plastic step; and from
-// the virgin state a uniaxial stretch past yield (two equal trial eigenvalues: the x coth x limit).
+// the virgin state a uniaxial stretch past yield (two equal trial eigenvalues: the x coth x limit);
+// with linear hardening and without (H = 0).
 // Central differences at e = 1e-6 (measured: at most 2e-9 mu). Bound 1e-6 mu: the smallest terms
 // of the tangent, the stress terms -2 tau_A, are of order sigma_y / mu ~ 3e-3, and the plastic
 // tangent differs from the elastic one by O(mu). At the step's start after a plastic step (G = 0,
