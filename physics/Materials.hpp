@@ -9,8 +9,11 @@
 //   stress<Dim>(m, s0, G, F, h, s)    stress after a displacement-gradient increment G from
 //                                     stress s0; F is the deformation gradient after it, h the
 //                                     particle's history (hasHistory(m): read and updated)
-//   tangent<Dim>(m, J, D)             dsigma/deps on the Voigt strains (2D: xx, yy, 2xy), for
-//                                     K = int B^T D B over the current volume (J = V / V0)
+//   tangent<Dim>(m, G, J, h, D)       dsigma/deps on the Voigt strains (2D: xx, yy, 2xy), for
+//                                     K = int B^T D B over the current volume (J = V / V0), at
+//                                     the state of stress<Dim> after the increment G from the
+//                                     history h (J2: the consistent tangent of its return map)
+//   tangent<Dim>(m, J, D)             the same without the particle's state (J2: elastic)
 //   energyDensity<Dim>(m, s, F, h)    (elastic) strain energy per unit current volume
 #pragma once
 
@@ -79,6 +82,14 @@ struct MaterialLaw {
       neoHookean(m).template tangent<Dim>(J, D);
     else
       j2(m).template tangent<Dim>(J, D);
+  }
+  template <int Dim>
+  KOKKOS_INLINE_FUNCTION void tangent(int m, const double (&G)[Dim][Dim], double J, const double* h,
+                                      double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) const {
+    if (hasHistory(m))
+      j2(m).template tangent<Dim>(G, J, h, D);
+    else
+      tangent<Dim>(m, J, D);
   }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim], const double* h) const {

@@ -1,6 +1,7 @@
 // Stiffness contributions K_e = int B^T D B, assembled over blocks of grid nodes, at the
-// particles' current state (D from the law at J = V / V0; finite-strain materials add the
-// geometric term int grad S_a . sigma . grad S_b).
+// particles' current state (D from the law at J = V / V0 and, for history materials, at the
+// step's increment from the stored history: J2's consistent tangent; finite-strain materials add
+// the geometric term int grad S_a . sigma . grad S_b).
 //
 // Two ways to integrate, both as Kokkos kernels that fill one small dense matrix per entry:
 //  - overlapStiffness (the seed's GIMP stiffness, slide 6): one entry per particle-cell pair.
@@ -92,6 +93,7 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
   auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
   auto V = ps.volume; auto V0 = ps.volume0; auto hs = ps.halfSize; auto matId = ps.material; auto x = ps.x;
+  auto hist = ps.history;
   auto K = out.K;
   Kokkos::parallel_for(
       "overlap_stiffness", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
@@ -108,8 +110,11 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
         const double clippedHeight = detail::minOf(x(p, 1) + hs(p, 1), g.yMax()) - detail::maxOf(x(p, 1) - hs(p, 1), g.y0);
         const double thickness = V(p) / (clippedWidth * clippedHeight);
         const double wq = 0.25 * (b - a) * (d - c) * thickness;
-        double D[3][3];
-        law.template tangent<2>(matId(p), V(p) / V0(p), D);
+        double D[3][3], h[ParticleSet::kHistoryCount];
+        const double G[2][2] = {};  // at the step's start
+        if (law.hasHistory(matId(p)))
+          for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
+        law.template tangent<2>(matId(p), G, V(p) / V0(p), h, D);
         for (int ix = 0; ix < 2; ++ix)
           for (int iy = 0; iy < 2; ++iy) {
             const double xi = (qx[ix] - cx) / g.hx, eta = (qy[iy] - cy) / g.hy;
@@ -188,8 +193,14 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
         const bool finite = law.finiteStrain(mat);
         double Vp = V(p), s[SL::count];
         for (int c = 0; c < SL::count; ++c) s[c] = sigma(p, c);
+        // The increment's gradient (zero at the step's start) and the step's starting history:
+        // the state the tangent is taken at.
+        double G[Dim][Dim] = {}, h[ParticleSet::kHistoryCount];
+        const bool withHistory = law.hasHistory(mat);
+        if (withHistory)
+          for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
         if (finite && atTrialState) {
-          double G[Dim][Dim], dF[Dim][Dim], inv[Dim][Dim], F[Dim][Dim], Fn[Dim][Dim];
+          double dF[Dim][Dim], inv[Dim][Dim], F[Dim][Dim], Fn[Dim][Dim];
           for (int i = 0; i < Dim; ++i)
             for (int j = 0; j < Dim; ++j) {
               G[i][j] = Gp(p, i, j);
@@ -199,11 +210,10 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
           multiply<Dim>(dF, Fn, F);
           const double Jd = determinant<Dim>(dF);
           inverse<Dim>(dF, Jd, inv);
-          double h[ParticleSet::kHistoryCount];
-          const bool withHistory = law.hasHistory(mat);
+          double hTrial[ParticleSet::kHistoryCount];  // the stress update's copy (the trial state is discarded)
           if (withHistory)
-            for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
-          law.template stress<Dim>(mat, s, G, F, withHistory ? h : nullptr, s);
+            for (int i = 0; i < ParticleSet::kHistoryCount; ++i) hTrial[i] = h[i];
+          law.template stress<Dim>(mat, s, G, F, withHistory ? hTrial : nullptr, s);
           Vp *= Jd;
           for (int n = 0; n < nn; ++n) {  // grad S on the deformed domain: dF^-T grad S
             double gn[Dim];
@@ -215,7 +225,7 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
             for (int j = 0; j < Dim; ++j) grad[n][j] = gn[j];
           }
         }
-        law.template tangent<Dim>(mat, Vp / V0(p), D);
+        law.template tangent<Dim>(mat, G, Vp / V0(p), withHistory ? h : nullptr, D);
         detail::addBtDB<Dim>(K, p, nn, grad, Vp, D);
         if (finite) {
           // The geometric (initial-stress) term of the current-configuration tangent:
