@@ -9,7 +9,8 @@ one at a time (output-root/runs/<case>/; a run whose summary.yaml exists and who
 unchanged is reused), computes errors, refinement orders, Problem 2's discrepancy budget, the
 cell-crossing study (crossing.py), the large-deformation section (largedef.py), the
 manufactured-solution convergence study (mms.py) and the large-deflection cantilever with the
-explicit/implicit time to solution (cantilever.py), and writes
+explicit/implicit time to solution (cantilever.py) and the seed beam with B-splines
+(beam_bspline.py), and writes
 doc/verification.md with its figures in doc/verification/ (--reduced: a short subset for ctest,
 written under output-root). --check prints one PASS/FAIL line per target and exits 1 if
 any fails. cmake/run-verification.sh builds impm first and then calls this script.
@@ -37,12 +38,13 @@ import decks  # noqa: E402
 import largedef  # noqa: E402
 import mms  # noqa: E402
 import cantilever  # noqa: E402
+import beam_bspline  # noqa: E402
 import plots  # noqa: E402
 import report  # noqa: E402
 from runner import Runner  # noqa: E402
 
-# Sections 6, 7 and 8 of the report, in that order.
-LARGE_DEFORMATION_SECTIONS = (largedef, mms, cantilever)
+# Sections 6 to 9 of the report, in that order.
+LARGE_DEFORMATION_SECTIONS = (largedef, mms, cantilever, beam_bspline)
 
 REPO = os.path.dirname(os.path.dirname(HERE))
 
