@@ -1,8 +1,10 @@
-// One run of an input deck, in three files by concern: SimulationBuilder.cpp builds the grid,
+// One run of an input deck, in four files by concern: SimulationBuilder.cpp builds the grid,
 // materials, bodies and their particles, constraints, loads, monitors, the exact solution and
 // the integrator from a validated deck (every semantic check happens there, before anything is
 // written); Simulation.cpp is the run loop (steps, migration, history through History, ParaView
-// output, progress); SimulationSummary.cpp writes summary.yaml. Plots are the driver's (apps/).
+// output, progress); SimulationRestart.cpp writes checkpoints and continues from one (the format
+// is solvers/Checkpoint.hpp's); SimulationSummary.cpp writes summary.yaml. Plots are the
+// driver's (apps/).
 #pragma once
 
 #include <Teuchos_Comm.hpp>
