@@ -1,8 +1,9 @@
 # Finds Trilinos (Trilinos_DIR, or the prefix cmake/setup-deps.sh installs into) and stops
 # with one clear message if it lacks what impm needs: the Kokkos OpenMP backend, Tpetra,
-# Belos, Ifpack2, Amesos2, NOX, Thyra with its Tpetra adapters, and Stratimikos.
+# Belos, Ifpack2, Amesos2, NOX, Thyra with its Tpetra adapters, and Stratimikos. MueLu (with
+# Xpetra) is optional: IMPM_TRILINOS_HAS_MUELU says whether `Preconditioner: MUELU` is available.
 
-set(IMPM_DEFAULT_TRILINOS_PREFIX "/opt/impm/trilinos-13.2.0-openmp")
+set(IMPM_DEFAULT_TRILINOS_PREFIX "/opt/impm/trilinos-13.2.0-openmp-muelu")
 find_package(Trilinos 13.2 CONFIG QUIET HINTS "${IMPM_DEFAULT_TRILINOS_PREFIX}")
 if(NOT Trilinos_FOUND)
   message(FATAL_ERROR
@@ -23,6 +24,16 @@ endforeach()
 if(_impm_missing)
   message(FATAL_ERROR "impm: the Trilinos in ${Trilinos_DIR} lacks: ${_impm_missing}. "
     "Build one with cmake/setup-deps.sh or enable these packages.")
+endif()
+
+list(FIND Trilinos_PACKAGE_LIST MueLu _impm_muelu)
+list(FIND Trilinos_PACKAGE_LIST Xpetra _impm_xpetra)
+if(_impm_muelu EQUAL -1 OR _impm_xpetra EQUAL -1)
+  set(IMPM_TRILINOS_HAS_MUELU OFF)
+  message(STATUS "impm: no MueLu in this Trilinos: 'Implicit Solver/Preconditioner: MUELU' will be refused")
+else()
+  set(IMPM_TRILINOS_HAS_MUELU ON)
+  message(STATUS "impm: MueLu found: 'Implicit Solver/Preconditioner: MUELU' available")
 endif()
 
 # The Kokkos OpenMP backend: look for KOKKOS_ENABLE_OPENMP in KokkosCore_config.h.

@@ -5,12 +5,13 @@
 #   cmake/setup-deps.sh            # idempotent: a second run finds the install and skips
 #
 # Environment:
-#   IMPM_TRILINOS_PREFIX  where the OpenMP Trilinos is installed (default /opt/impm/trilinos-13.2.0-openmp)
+#   IMPM_TRILINOS_PREFIX  where the OpenMP Trilinos is installed (default /opt/impm/trilinos-13.2.0-openmp-muelu)
 #   Trilinos_DIR          a Trilinos of your own: when set, nothing is built (only Debian tools are installed)
 #   IMPM_JOBS             parallel build jobs (default: number of cores)
 set -euo pipefail
+SECONDS=0  # the whole set-up is timed; the elapsed time is printed at the end
 
-PREFIX="${IMPM_TRILINOS_PREFIX:-/opt/impm/trilinos-13.2.0-openmp}"
+PREFIX="${IMPM_TRILINOS_PREFIX:-/opt/impm/trilinos-13.2.0-openmp-muelu}"
 WORK="${IMPM_TRILINOS_WORK:-/var/cache/impm/trilinos}"
 JOBS="${IMPM_JOBS:-$(nproc)}"
 
@@ -40,6 +41,8 @@ if [ -n "${Trilinos_DIR:-}" ]; then
 fi
 
 # The configuration that is known to work (see README, "Trilinos"). Its hash is the cache key.
+# Only what impm uses is built: Tpetra (double, int, long long, OpenMP node), Belos, Ifpack2,
+# Amesos2 (KLU2), MueLu on Xpetra (Tpetra only), NOX with Thyra, Stratimikos (Belos, Amesos2).
 TRILINOS_OPTIONS=(
   -G Ninja -DCMAKE_BUILD_TYPE=Release -DBUILD_SHARED_LIBS=ON
   -DTPL_ENABLE_MPI=ON -DTrilinos_ENABLE_OpenMP=ON
@@ -57,16 +60,33 @@ TRILINOS_OPTIONS=(
   -DStratimikos_ENABLE_Belos=ON -DStratimikos_ENABLE_Ifpack2=ON
   -DTrilinos_ENABLE_EXPLICIT_INSTANTIATION=ON
   -DTPL_ENABLE_BLAS=ON -DTPL_ENABLE_LAPACK=ON
+  # Algebraic multigrid: MueLu on Xpetra's Tpetra back end (no Epetra, no Thyra/Stratimikos adapters:
+  # impm calls MueLu::CreateTpetraPreconditioner itself), classic code path only.
+  -DTrilinos_ENABLE_MueLu=ON -DTrilinos_ENABLE_Xpetra=ON -DXpetra_ENABLE_Epetra=OFF -DXpetra_ENABLE_Thyra=OFF
+  -DMueLu_ENABLE_Thyra=OFF -DMueLu_ENABLE_ThyraTpetraAdapters=OFF -DMueLu_ENABLE_Stratimikos=OFF
+  -DMueLu_ENABLE_Kokkos_Refactor=OFF
+  # Trims: the one global ordinal impm uses (core/Types.hpp: GO = long long); no LOCA and no NOX
+  # LAPACK groups (impm drives NOX through Thyra); KokkosKernels kernels pre-instantiated only for
+  # double / int ordinal / size_t offset / LayoutLeft / OpenMP on host memory (what Tpetra uses).
+  -DTpetra_INST_INT_LONG_LONG=ON -DTpetra_INST_INT_INT=OFF -DTpetra_INST_INT_LONG=OFF -DTpetra_INST_INT_UNSIGNED=OFF
+  -DNOX_ENABLE_LOCA=OFF -DNOX_ENABLE_ABSTRACT_IMPLEMENTATION_LAPACK=OFF
+  -DKokkosKernels_INST_DOUBLE=ON -DKokkosKernels_INST_FLOAT=OFF
+  -DKokkosKernels_INST_COMPLEX_DOUBLE=OFF -DKokkosKernels_INST_COMPLEX_FLOAT=OFF
+  -DKokkosKernels_INST_ORDINAL_INT=ON -DKokkosKernels_INST_ORDINAL_INT64_T=OFF
+  -DKokkosKernels_INST_OFFSET_SIZE_T=ON -DKokkosKernels_INST_OFFSET_INT=OFF
+  -DKokkosKernels_INST_LAYOUTLEFT=ON -DKokkosKernels_INST_LAYOUTRIGHT=OFF
+  -DKokkosKernels_INST_EXECSPACE_OPENMP=ON -DKokkosKernels_INST_EXECSPACE_SERIAL=OFF
+  -DKokkosKernels_INST_MEMSPACE_HOSTSPACE=ON
 )
 KEY="$(printf '%s\n' "${TRILINOS_OPTIONS[@]}" | sha256sum | cut -c1-16)"
 STAMP="$PREFIX/.impm-build-key"
 
 if [ -f "$STAMP" ] && [ "$(cat "$STAMP")" = "$KEY" ] && [ -f "$PREFIX/lib/cmake/Trilinos/TrilinosConfig.cmake" ]; then
-  log "Trilinos with OpenMP found in $PREFIX (key $KEY): skipping the build"
+  log "Trilinos with OpenMP found in $PREFIX (key $KEY): skipping the build (${SECONDS} s)"
   exit 0
 fi
 
-log "building Trilinos 13.2 with Kokkos OpenMP into $PREFIX (about 25 minutes on 2 cores, once per machine)"
+log "building Trilinos 13.2 with Kokkos OpenMP into $PREFIX (about 30 minutes on 2 cores, once per machine)"
 $SUDO mkdir -p "$WORK"
 cd "$WORK"
 
@@ -100,3 +120,4 @@ echo "$KEY" | $SUDO tee "$STAMP" >/dev/null
 log "Trilinos installed in $PREFIX"
 # Keep the unpacked source and tarball out of the way but drop the build tree (about 3 GB).
 cd "$WORK" && rm -rf build
+log "Trilinos built and installed in $((SECONDS / 60)) min ($SECONDS s wall)"

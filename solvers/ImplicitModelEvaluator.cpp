@@ -303,6 +303,7 @@ void ImplicitModelEvaluator::evalModelImpl(const Thyra::ModelEvaluatorBase::InAr
     const RCP<Thyra::PreconditionerBase<double>> W_prec_out = outArgs.get_W_prec();
     if (!W_prec_out.is_null()) {
       const RCP<const CrsMatrix> P = matrixAt(*x);
+      prec_->setUnknownGeometry(model_->unknownCoordinates(), model_->unknownsPerNode());
       RCP<TpetraOperator> M = prec_->update(P, model_->jacobianVersion());
       auto prec = Teuchos::rcp_dynamic_cast<Thyra::DefaultPreconditioner<double>>(W_prec_out, true);
       const RCP<Thyra::LinearOpBase<double>> op = Thyra::tpetraLinearOp<Scalar, LO, GO, Node>(space_, space_, M);

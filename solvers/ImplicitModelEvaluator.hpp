@@ -33,6 +33,9 @@ class PreconditionerCache {
   virtual Teuchos::RCP<TpetraOperator> update(const Teuchos::RCP<const CrsMatrix>& P, long valuesVersion = -1) = 0;
   // Symbolic setups (Ifpack2 initialize(), symbolic factorisation) so far.
   virtual int initializations() const = 0;
+  // The unknowns' node coordinates (ResidualModel::unknownCoordinates, may be null), handed over
+  // before each update() for preconditioners that use geometry (MueLu's rigid-body modes).
+  virtual void setUnknownGeometry(const Teuchos::RCP<const MultiVector>& /*coordinates*/, int /*unknownsPerNode*/) {}
 };
 
 // An Ifpack2 preconditioner of a given type: initialize() (symbolic) when P is a new object or its

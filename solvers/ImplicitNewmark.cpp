@@ -193,7 +193,28 @@ void ImplicitNewmark<Shape, Dim>::setUpStep(double t, double dt) {
     const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
     unknownMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(freeGids_), 0, dist_.comm()));
     P_ = Teuchos::null;
+    unknownCoords_ = Teuchos::null;
   }
+}
+
+// Node coordinates of the free dofs (gid = Dim node + component), for MueLu's near-null space.
+template <class Shape, int Dim>
+Teuchos::RCP<const MultiVector> ImplicitNewmark<Shape, Dim>::unknownCoordinates() const {
+  if (unknownMap_.is_null()) return Teuchos::null;
+  if (!unknownCoords_.is_null()) return unknownCoords_;
+  const StructuredGrid& g = dist_.grid();
+  auto coords = Teuchos::rcp(new MultiVector(unknownMap_, Dim));
+  auto c = coords->getLocalViewHost(Tpetra::Access::OverwriteAll);
+  const long long nz = g.nodesZ(), ny = g.nodesY();
+  for (size_t k = 0; k < freeGids_.size(); ++k) {
+    const long long node = freeGids_[k] / Dim;  // node id = (i (ny + 1) + j) nodesZ + l
+    const long long l = node % nz, j = (node / nz) % ny, i = node / (nz * ny);
+    c(k, 0) = g.nodeX((int)i);
+    if (Dim > 1) c(k, 1) = g.nodeY((int)j);
+    if (Dim > 2) c(k, Dim - 1) = g.nodeZ((int)l);
+  }
+  unknownCoords_ = coords;
+  return unknownCoords_;
 }
 
 // The lumped projection v_i = sum m_p S_ip v_p / m_i smooths the grid state every step (by

@@ -99,6 +99,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void residual(const Vector& u, Vector& R) override;
   Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) override;
   long jacobianVersion() const override { return preconditionerVersion_; }
+  Teuchos::RCP<const MultiVector> unknownCoordinates() const override;
+  int unknownsPerNode() const override { return Dim; }
 
   // Statistics of the run so far.
   const std::vector<int>& newtonIterationsPerStep() const { return newtonPerStep_; }
@@ -135,6 +137,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   Kokkos::View<int*, DeviceType> freeNode_, freeComp_;
   Teuchos::RCP<const Map> unknownMap_;
   std::vector<GO> freeGids_;
+  mutable Teuchos::RCP<MultiVector> unknownCoords_;  // built on first request for unknownMap_
 
   // The assembled matrix of the current step; its graph (and the overlap matrix and Export
   // it is summed through) is reused while the pattern of particle-cell pairs and free dofs

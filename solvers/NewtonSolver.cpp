@@ -2,6 +2,7 @@
 
 #include "solvers/ConvergenceTests.hpp"
 #include "solvers/ImplicitModelEvaluator.hpp"
+#include "solvers/MueLuPreconditioner.hpp"
 
 #include <NOX.H>
 #include <NOX_MatrixFree_ModelEvaluatorDecorator.hpp>
@@ -31,7 +32,6 @@ using Teuchos::rcp;
 namespace {
 
 const std::string kList = "Implicit Solver";
-const std::vector<std::string> kPreconditioners = {"RILUK", "ILUT", "RELAXATION", "CHEBYSHEV", "None"};
 // Relative tolerance of preconditioned GMRES when it stands in for a direct solve.
 constexpr double kAssembledBelosTolerance = 1e-10;
 
@@ -182,10 +182,11 @@ RCP<const ParameterList> NewtonSolver::validParameters() {
           "RELAXATION (Jacobi unless 'relaxation: type' says otherwise), CHEBYSHEV, AMESOS2 (sparse direct LU of "
           "each rank's diagonal block, KLU2 unless 'Amesos2 solver name' says otherwise: on one rank the exact "
           "inverse of P), SCHWARZ (additive Schwarz, 'schwarz: overlap level' layers of overlap between ranks, "
-          "'subdomain solver name' RILUK unless set, e.g. AMESOS2), or None. Across MPI ranks the ILU variants "
-          "and AMESOS2 act as block Jacobi",
-          rcp(new Teuchos::StringValidator(
-              Teuchos::tuple<std::string>("RILUK", "ILUT", "RELAXATION", "CHEBYSHEV", "AMESOS2", "SCHWARZ", "None"))));
+          "'subdomain solver name' RILUK unless set, e.g. AMESOS2), MUELU (smoothed-aggregation algebraic multigrid "
+          "with Ifpack2 smoothers and the rigid-body modes as near-null space; options in the 'MueLu' sublist; "
+          "needs a Trilinos with MueLu), or None. Across MPI ranks the ILU variants and AMESOS2 act as block Jacobi",
+          rcp(new Teuchos::StringValidator(Teuchos::tuple<std::string>("RILUK", "ILUT", "RELAXATION", "CHEBYSHEV",
+                                                                       "AMESOS2", "SCHWARZ", "MUELU", "None"))));
   pl->set("Displacement Tolerance", 1e-10,
           "converged when ||du_k|| <= tol * ||u_k|| (du_k: update of Newton iteration k; 2-norms) AND the "
           "energy criterion holds",
@@ -207,6 +208,12 @@ RCP<const ParameterList> NewtonSolver::validParameters() {
           "GMRES iteration limit per Newton step (also the restart length, capped at 100)",
           rcp(new Teuchos::EnhancedNumberValidator<int>()));
   pl->sublist("Ifpack2", false, "passed unchanged to the Ifpack2 preconditioner's setParameters (Ifpack2 checks it)")
+      .disableRecursiveValidation();
+  pl->sublist("MueLu", false,
+              "Preconditioner = MUELU: passed to MueLu::CreateTpetraPreconditioner (MueLu checks it); impm's "
+              "defaults where it is silent: smoothed aggregation (uncoupled), smoother RELAXATION (Symmetric "
+              "Gauss-Seidel, 2 sweeps), coarse KLU2 below 500 rows, verbosity none. impm sets 'number of "
+              "equations' (the dimension) and the near-null space (rigid-body modes) itself")
       .disableRecursiveValidation();
   pl->sublist("NOX", false,
               "passed to NOX (defaults: Line Search Based, Full Step, Newton with a constant forcing term, errors "
@@ -324,7 +331,13 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
   setDefault(nox.sublist("Solver Options"), "Status Test Check Type", "Complete");
 
   // Ifpack2: checks the type and the "Ifpack2" list now (not collective).
-  if (usesPreconditioner()) prec_ = rcp(new IfpackPreconditionerCache(precType_, pl.sublist("Ifpack2")));
+  // MueLu: checks the keys against its master list and the values on a small matrix (not collective).
+  if (usesPreconditioner()) {
+    if (precType_ == "MUELU")
+      prec_ = makeMueLuPreconditioner(pl.sublist("MueLu"));
+    else
+      prec_ = rcp(new IfpackPreconditionerCache(precType_, pl.sublist("Ifpack2")));
+  }
 }
 
 // What solve() keeps between calls while the model and its unknown map are unchanged.

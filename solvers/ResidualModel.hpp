@@ -29,6 +29,11 @@ class ResidualModel {
   // A number that changes whenever the values of the matrix last returned by jacobianMatrix
   // change (so that preconditioner factors can be kept); -1: unknown, always refactor.
   virtual long jacobianVersion() const { return -1; }
+  // Geometry for algebraic multigrid (MueLu): the coordinates of the grid node of each unknown,
+  // a MultiVector on unknownMap() with one column per direction, when the unknowns are laid out
+  // as gid = unknownsPerNode() * node gid + component. Null: no such layout.
+  virtual Teuchos::RCP<const MultiVector> unknownCoordinates() const { return Teuchos::null; }
+  virtual int unknownsPerNode() const { return 1; }
 };
 
 }  // namespace impm
