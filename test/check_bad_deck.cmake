@@ -83,6 +83,14 @@ expect_failure(bad_choice "Update Scheme: USL" "Update Scheme: USX" "Integrator/
 expect_failure(negative_damping "Update Scheme: USL" "Update Scheme: USL\n      Mass Damping: -1.0" "Integrator/Explicit/Mass Damping")
 expect_failure(bad_preconditioner "  Output:" "  Implicit Solver:\n    Preconditioner: MAGIC\n  Output:" "Implicit Solver/Preconditioner")
 expect_failure(negative_tolerance "  Output:" "  Implicit Solver:\n    Displacement Tolerance: -1.0e-8\n  Output:" "Implicit Solver/Displacement Tolerance")
+# Preconditioner: MUELU: MueLu's list is checked at deck time (a misspelt key, a value MueLu
+# rejects); without MueLu in the Trilinos the preconditioner itself is refused.
+if(MUELU)
+  expect_failure(muelu_unknown_key "  Output:" "  Implicit Solver:\n    Preconditioner: MUELU\n    MueLu:\n      'smoother: tipe': RELAXATION\n  Output:" "Implicit Solver/MueLu/smoother: tipe")
+  expect_failure(muelu_bad_value "  Output:" "  Implicit Solver:\n    Preconditioner: MUELU\n    MueLu:\n      'smoother: type': MAGIC\n  Output:" "Implicit Solver/MueLu")
+else()
+  expect_failure(muelu_unavailable "  Output:" "  Implicit Solver:\n    Preconditioner: MUELU\n  Output:" "Implicit Solver/Preconditioner")
+endif()
 
 # The Materials / Bodies form (issue 8), on the colliding-disks deck.
 set(good "${good_disks}")
