@@ -10,6 +10,8 @@
 #include <Teuchos_DefaultSerialComm.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -123,41 +125,97 @@ void checkKeys(ParameterList& pl, const std::string& prefix, bool topLevel) {
   for (const std::string& key : toDouble) pl.set(key, static_cast<double>(pl.get<int>(key)));
 }
 
-// Per node (in the order of the unknowns): gid / unknownsPerNode and the node's coordinates.
-RCP<MultiVector> nodeCoordinates(const MultiVector& coords, int upn) {
-  const Map& map = *coords.getMap();
-  auto c = coords.getLocalViewHost(Tpetra::Access::ReadOnly);
-  std::vector<GO> nodes;
-  std::vector<size_t> first;
-  for (size_t k = 0; k < map.getNodeNumElements(); ++k) {
-    const GO node = map.getGlobalElement((LO)k) / upn;
-    if (nodes.empty() || nodes.back() != node) {
-      nodes.push_back(node);
-      first.push_back(k);
-    }
-  }
-  const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
-  auto nodeMap = rcp(new Map(invalid, Teuchos::ArrayView<const GO>(nodes), 0, map.getComm()));
-  auto out = rcp(new MultiVector(nodeMap, coords.getNumVectors()));
-  auto o = out->getLocalViewHost(Tpetra::Access::OverwriteAll);
-  for (size_t n = 0; n < nodes.size(); ++n)
-    for (size_t d = 0; d < coords.getNumVectors(); ++d) o(n, d) = c(first[n], d);
-  return out;
-}
+// MueLu's block size ("number of equations") needs every node to carry all its unknownsPerNode
+// rows, in order, while impm leaves constrained components out of the unknowns (a roller keeps one
+// of two). The padded system puts them back as decoupled rows (the diagonal only, which MueLu
+// takes for Dirichlet rows): P's rows keep their gids (gid = upn node + component), the padded
+// map lists whole nodes, and each unknown's padded local index is recorded.
+struct PaddedSystem {
+  RCP<const Map> map;
+  std::vector<LO> position;  // padded local index of each local unknown
+  std::vector<GO> nodes;     // node gid of each local padded node, in order
+  std::vector<LO> firstUnknown;  // a local unknown of each node (for its coordinates)
 
-// Rigid-body modes on the unknowns (gid = upn node + component), about the mean of the
-// coordinates: translations, then rotations (2D: about z; 3D: about z, x, y).
-RCP<MultiVector> rigidBodyModes(const MultiVector& coords, int dim) {
+  PaddedSystem(const Map& unknowns, int upn) {
+    std::vector<GO> gids;
+    const size_t n = unknowns.getNodeNumElements();
+    for (size_t k = 0; k < n; ++k) {
+      const GO node = unknowns.getGlobalElement((LO)k) / upn;
+      if (nodes.empty() || nodes.back() != node) {
+        nodes.push_back(node);
+        firstUnknown.push_back((LO)k);
+        for (int c = 0; c < upn; ++c) gids.push_back(upn * node + c);
+      }
+    }
+    const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
+    map = rcp(new Map(invalid, Teuchos::ArrayView<const GO>(gids), 0, unknowns.getComm()));
+    position.resize(n);
+    for (size_t k = 0; k < n; ++k) position[k] = map->getLocalElement(unknowns.getGlobalElement((LO)k));
+    TEUCHOS_TEST_FOR_EXCEPTION(std::find(position.begin(), position.end(), Teuchos::OrdinalTraits<LO>::invalid()) !=
+                                   position.end(),
+                               std::logic_error, "impm MueLu: the unknowns are not grouped by node");
+  }
+
+  // P on the padded map; the added rows carry the mean |diagonal| of the rank's rows of P.
+  RCP<CrsMatrix> pad(const CrsMatrix& P) const {
+    auto A = rcp(new CrsMatrix(map, P.getNodeMaxNumRowEntries()));
+    const RCP<const Map> colMap = P.getColMap();
+    const Map& rows = *P.getRowMap();
+    std::vector<GO> cols;
+    std::vector<Scalar> vals;
+    double diagSum = 0.0;
+    for (LO i = 0; i < (LO)rows.getNodeNumElements(); ++i) {
+      CrsMatrix::local_inds_host_view_type inds;
+      CrsMatrix::values_host_view_type v;
+      P.getLocalRowView(i, inds, v);
+      const GO row = rows.getGlobalElement(i);
+      cols.resize(inds.extent(0));
+      vals.resize(inds.extent(0));
+      for (size_t k = 0; k < inds.extent(0); ++k) {
+        cols[k] = colMap->getGlobalElement(inds(k));
+        vals[k] = v(k);
+        if (cols[k] == row) diagSum += std::abs(vals[k]);
+      }
+      A->insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const Scalar>(vals));
+    }
+    const Scalar diag = rows.getNodeNumElements() ? diagSum / rows.getNodeNumElements() : 1.0;
+    std::vector<char> present(map->getNodeNumElements(), 0);
+    for (LO p : position) present[p] = 1;
+    for (size_t a = 0; a < present.size(); ++a)
+      if (!present[a]) {
+        const GO g = map->getGlobalElement((LO)a);
+        A->insertGlobalValues(g, Teuchos::ArrayView<const GO>(&g, 1), Teuchos::ArrayView<const Scalar>(&diag, 1));
+      }
+    A->fillComplete(map, map);
+    return A;
+  }
+
+  // Node coordinates (one row per padded node) from the unknowns' coordinates.
+  RCP<MultiVector> nodeCoordinates(const MultiVector& coords) const {
+    const Tpetra::global_size_t invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
+    auto nodeMap = rcp(new Map(invalid, Teuchos::ArrayView<const GO>(nodes), 0, map->getComm()));
+    auto out = rcp(new MultiVector(nodeMap, coords.getNumVectors()));
+    auto c = coords.getLocalViewHost(Tpetra::Access::ReadOnly);
+    auto o = out->getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t n = 0; n < nodes.size(); ++n)
+      for (size_t d = 0; d < coords.getNumVectors(); ++d) o(n, d) = c(firstUnknown[n], d);
+    return out;
+  }
+};
+
+// Rigid-body modes on the padded unknowns, about the mean of the node coordinates: translations,
+// then rotations (2D: about z; 3D: about z, x, y).
+RCP<MultiVector> rigidBodyModes(const MultiVector& nodeCoords, const Map& padded, int dim) {
   std::vector<Scalar> mean(dim);
-  coords.meanValue(Teuchos::ArrayView<Scalar>(mean));
+  nodeCoords.meanValue(Teuchos::ArrayView<Scalar>(mean));
   const int modes = dim == 2 ? 3 : 6;
-  auto ns = rcp(new MultiVector(coords.getMap(), modes));
-  auto c = coords.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto ns = rcp(new MultiVector(rcp(&padded, false), modes));
+  auto c = nodeCoords.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto z = ns->getLocalViewHost(Tpetra::Access::OverwriteAll);
-  const Map& map = *coords.getMap();
-  for (size_t k = 0; k < map.getNodeNumElements(); ++k) {
-    const int comp = (int)(map.getGlobalElement((LO)k) % dim);
-    const double x = c(k, 0) - mean[0], y = c(k, 1) - mean[1], zc = dim == 3 ? c(k, 2) - mean[2] : 0.0;
+  for (size_t k = 0; k < padded.getNodeNumElements(); ++k) {
+    const size_t node = k / dim;  // the padded map lists whole nodes
+    const int comp = (int)(k % dim);
+    const double x = c(node, 0) - mean[0], y = c(node, 1) - mean[1], zc = dim == 3 ? c(node, 2) - mean[2] : 0.0;
     for (int m = 0; m < modes; ++m) z(k, m) = 0.0;
     z(k, comp) = 1.0;
     z(k, dim) = comp == 0 ? -y : comp == 1 ? x : 0.0;  // about z
@@ -168,6 +226,47 @@ RCP<MultiVector> rigidBodyModes(const MultiVector& coords, int dim) {
   }
   return ns;
 }
+
+// The hierarchy on the padded system, applied to the unknowns: x is extended by zeros, and the
+// padded rows of the result are dropped.
+class PaddedOperator : public TpetraOperator {
+ public:
+  PaddedOperator(RCP<const Map> unknowns, std::shared_ptr<const PaddedSystem> padded, RCP<MueLuOperator> inner)
+      : map_(std::move(unknowns)), padded_(std::move(padded)), inner_(std::move(inner)) {}
+  RCP<const Map> getDomainMap() const override { return map_; }
+  RCP<const Map> getRangeMap() const override { return map_; }
+  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
+             Scalar alpha = Teuchos::ScalarTraits<Scalar>::one(),
+             Scalar beta = Teuchos::ScalarTraits<Scalar>::zero()) const override {
+    TEUCHOS_TEST_FOR_EXCEPTION(mode != Teuchos::NO_TRANS, std::logic_error, "impm MueLu: no transposed apply");
+    const size_t nv = X.getNumVectors();
+    const std::vector<LO>& pos = padded_->position;
+    MultiVector Xp(padded_->map, nv), Yp(padded_->map, nv);  // zero-initialised
+    {
+      auto x = X.getLocalViewHost(Tpetra::Access::ReadOnly);
+      auto xp = Xp.getLocalViewHost(Tpetra::Access::ReadWrite);
+      for (size_t k = 0; k < pos.size(); ++k)
+        for (size_t j = 0; j < nv; ++j) xp(pos[k], j) = x(k, j);
+    }
+    inner_->apply(Xp, Yp);
+    auto yp = Yp.getLocalViewHost(Tpetra::Access::ReadOnly);
+    if (beta == Teuchos::ScalarTraits<Scalar>::zero()) {
+      auto y = Y.getLocalViewHost(Tpetra::Access::OverwriteAll);  // (beta = 0: Y may hold NaN)
+      for (size_t k = 0; k < pos.size(); ++k)
+        for (size_t j = 0; j < nv; ++j) y(k, j) = alpha * yp(pos[k], j);
+    } else {
+      auto y = Y.getLocalViewHost(Tpetra::Access::ReadWrite);
+      for (size_t k = 0; k < pos.size(); ++k)
+        for (size_t j = 0; j < nv; ++j) y(k, j) = alpha * yp(pos[k], j) + beta * y(k, j);
+    }
+  }
+  MueLuOperator& inner() { return *inner_; }
+
+ private:
+  RCP<const Map> map_;
+  std::shared_ptr<const PaddedSystem> padded_;
+  RCP<MueLuOperator> inner_;
+};
 
 class MueLuPreconditionerCache : public PreconditionerCache {
  public:
@@ -195,8 +294,8 @@ class MueLuPreconditionerCache : public PreconditionerCache {
   RCP<TpetraOperator> update(const RCP<const CrsMatrix>& P, long valuesVersion) override {
     PhaseTimer phase("preconditioner set-up");
     const bool sameStructure =
-        !op_.is_null() && P.get() == matrix_.get() && P->isStaticGraph() && coords_.get() == coordsOfOp_.get();
-    if (sameStructure && valuesVersion >= 0 && valuesVersion == valuesVersion_) return op_;
+        op_ != nullptr && P.get() == matrix_.get() && P->isStaticGraph() && coords_.get() == coordsOfOp_.get();
+    if (sameStructure && valuesVersion >= 0 && valuesVersion == valuesVersion_) return op_->op;
     try {
       if (!sameStructure) {
         op_ = build(P, params_, coords_, upn_);
@@ -204,43 +303,61 @@ class MueLuPreconditionerCache : public PreconditionerCache {
         coordsOfOp_ = coords_;
         ++initializations_;
       } else {
-        MueLu::ReuseTpetraPreconditioner(Teuchos::rcp_const_cast<CrsMatrix>(P), *op_);
+        MueLu::ReuseTpetraPreconditioner(op_->padded->pad(*P), op_->op->inner());
       }
     } catch (const std::exception& e) {
-      op_ = Teuchos::null;
+      op_ = nullptr;
       throw std::runtime_error("impm::NewtonSolver: MueLu set-up failed: " + oneLine(e.what()));
     }
     valuesVersion_ = valuesVersion;
-    return op_;
+    return op_->op;
   }
   int initializations() const override { return initializations_; }
 
  private:
-  static RCP<MueLuOperator> build(const RCP<const CrsMatrix>& P, const ParameterList& params,
-                                  const RCP<const MultiVector>& coords, int upn) {
+  struct Built {
+    std::shared_ptr<const PaddedSystem> padded;
+    RCP<PaddedOperator> op;
+  };
+
+  // MueLu on P padded to whole nodes, with "number of equations" = unknowns per node, and the
+  // rigid-body modes and node coordinates when the model gives its geometry.
+  static std::shared_ptr<Built> build(const RCP<const CrsMatrix>& P, const ParameterList& params,
+                                      const RCP<const MultiVector>& coords, int upn) {
+    auto padded = std::make_shared<const PaddedSystem>(*P->getRowMap(), upn);
     ParameterList list(params);
     list.set("number of equations", upn);
     if (!coords.is_null() && (upn == 2 || upn == 3) && (int)coords->getNumVectors() == upn) {
+      RCP<MultiVector> nodeCoords = padded->nodeCoordinates(*coords);
       ParameterList& user = list.sublist("user data");
-      user.set<RCP<MultiVector>>("Nullspace", rigidBodyModes(*coords, upn));
-      user.set<RCP<MultiVector>>("Coordinates", nodeCoordinates(*coords, upn));
+      user.set<RCP<MultiVector>>("Nullspace", rigidBodyModes(*nodeCoords, *padded->map, upn));
+      user.set<RCP<MultiVector>>("Coordinates", nodeCoords);
     }
-    RCP<TpetraOperator> A = Teuchos::rcp_const_cast<CrsMatrix>(P);
-    return MueLu::CreateTpetraPreconditioner<Scalar, LO, GO, Node>(A, list);
+    RCP<TpetraOperator> A = padded->pad(*P);
+    RCP<MueLuOperator> mueLu = MueLu::CreateTpetraPreconditioner<Scalar, LO, GO, Node>(A, list);
+    auto b = std::make_shared<Built>();
+    b->padded = padded;
+    b->op = rcp(new PaddedOperator(P->getRowMap(), padded, mueLu));
+    return b;
   }
 
   // A hierarchy of at least two levels on a small 2D-elasticity-like matrix (a chain of 40 nodes,
-  // 2 unknowns each) over a serial communicator, and one application: MueLu and Ifpack2 check the
-  // values of the list here rather than at the first time step.
+  // 2 unknowns each, the first node's second one constrained away) over a serial communicator, and
+  // one application: MueLu and Ifpack2 check the values of the list here rather than at the first
+  // time step.
   void probe() const {
     RCP<const Teuchos::Comm<int>> self = rcp(new Teuchos::SerialComm<int>());
     const int nodes = 40, upn = 2, n = nodes * upn;
-    auto map = rcp(new Map(n, 0, self));
+    std::vector<GO> gids;
+    for (GO r = 0; r < n; ++r)
+      if (r != 1) gids.push_back(r);
+    auto map = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                           Teuchos::ArrayView<const GO>(gids), 0, self));
     auto A = rcp(new CrsMatrix(map, 3));
-    for (GO r = 0; r < n; ++r) {
+    for (GO r : gids) {
       std::vector<GO> cols{r};
       std::vector<Scalar> vals{2.1};
-      if (r - upn >= 0) cols.push_back(r - upn), vals.push_back(-1.0);
+      if (r - upn >= 0 && r - upn != 1) cols.push_back(r - upn), vals.push_back(-1.0);
       if (r + upn < n) cols.push_back(r + upn), vals.push_back(-1.0);
       A->insertGlobalValues(r, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const Scalar>(vals));
     }
@@ -248,15 +365,15 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     auto coords = rcp(new MultiVector(map, upn));
     {
       auto c = coords->getLocalViewHost(Tpetra::Access::OverwriteAll);
-      for (int r = 0; r < n; ++r) c(r, 0) = r / upn, c(r, 1) = 0.1 * (r / upn % 3);
+      for (size_t k = 0; k < gids.size(); ++k) c(k, 0) = gids[k] / upn, c(k, 1) = 0.1 * (gids[k] / upn % 3);
     }
     ParameterList list(params_);
     list.set("coarse: max size", 10);
     try {
-      RCP<MueLuOperator> op = build(A, list, coords, upn);
+      std::shared_ptr<Built> b = build(A, list, coords, upn);
       Vector x(map), y(map);
       x.putScalar(1.0);
-      op->apply(x, y);
+      b->op->apply(x, y);
     } catch (const std::exception& e) {
       throw std::invalid_argument(kWhere + "' rejected by MueLu: " + oneLine(e.what()));
     }
@@ -265,7 +382,7 @@ class MueLuPreconditionerCache : public PreconditionerCache {
   ParameterList params_;
   RCP<const MultiVector> coords_, coordsOfOp_;
   int upn_ = 1;
-  RCP<MueLuOperator> op_;
+  std::shared_ptr<Built> op_;
   RCP<const CrsMatrix> matrix_;  // held so its address cannot be reused by a new matrix
   int initializations_ = 0;
   long valuesVersion_ = -1;
