@@ -205,11 +205,12 @@ struct PaddedSystem {
 
 // Rigid-body modes on the padded unknowns, about the mean of the node coordinates: translations,
 // then rotations (2D: about z; 3D: about z, x, y).
-RCP<MultiVector> rigidBodyModes(const MultiVector& nodeCoords, const Map& padded, int dim) {
+RCP<MultiVector> rigidBodyModes(const MultiVector& nodeCoords, const RCP<const Map>& paddedMap, int dim) {
+  const Map& padded = *paddedMap;
   std::vector<Scalar> mean(dim);
   nodeCoords.meanValue(Teuchos::ArrayView<Scalar>(mean));
   const int modes = dim == 2 ? 3 : 6;
-  auto ns = rcp(new MultiVector(rcp(&padded, false), modes));
+  auto ns = rcp(new MultiVector(paddedMap, modes));
   auto c = nodeCoords.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto z = ns->getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (size_t k = 0; k < padded.getNodeNumElements(); ++k) {
@@ -330,7 +331,7 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     if (!coords.is_null() && (upn == 2 || upn == 3) && (int)coords->getNumVectors() == upn) {
       RCP<MultiVector> nodeCoords = padded->nodeCoordinates(*coords);
       ParameterList& user = list.sublist("user data");
-      user.set<RCP<MultiVector>>("Nullspace", rigidBodyModes(*nodeCoords, *padded->map, upn));
+      user.set<RCP<MultiVector>>("Nullspace", rigidBodyModes(*nodeCoords, padded->map, upn));
       user.set<RCP<MultiVector>>("Coordinates", nodeCoords);
     }
     RCP<TpetraOperator> A = padded->pad(*P);
