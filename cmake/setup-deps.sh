@@ -61,10 +61,13 @@ TRILINOS_OPTIONS=(
   -DTrilinos_ENABLE_EXPLICIT_INSTANTIATION=ON
   -DTPL_ENABLE_BLAS=ON -DTPL_ENABLE_LAPACK=ON
   # Algebraic multigrid: MueLu on Xpetra's Tpetra back end (no Epetra, no Thyra/Stratimikos adapters:
-  # impm calls MueLu::CreateTpetraPreconditioner itself), classic code path only.
+  # impm calls MueLu::CreateTpetraPreconditioner itself). MueLu without explicit instantiation: its
+  # ETI (some 250 heavy files) took longer than everything else together; impm instantiates the one
+  # type it uses in solvers/MueLuPreconditioner.cpp. (MueLu_ENABLE_Kokkos_Refactor=OFF does not
+  # compile in 13.2: MueLu_ClassicalMapFactory_def.hpp uses LWGraph_kokkos unconditionally.)
   -DTrilinos_ENABLE_MueLu=ON -DTrilinos_ENABLE_Xpetra=ON -DXpetra_ENABLE_Epetra=OFF -DXpetra_ENABLE_Thyra=OFF
   -DMueLu_ENABLE_Thyra=OFF -DMueLu_ENABLE_ThyraTpetraAdapters=OFF -DMueLu_ENABLE_Stratimikos=OFF
-  -DMueLu_ENABLE_Kokkos_Refactor=OFF
+  -DMueLu_ENABLE_EXPLICIT_INSTANTIATION=OFF
   # Trims: the one global ordinal impm uses (core/Types.hpp: GO = long long); no LOCA and no NOX
   # LAPACK groups (impm drives NOX through Thyra); KokkosKernels kernels pre-instantiated only for
   # double / int ordinal / size_t offset / LayoutLeft / OpenMP on host memory (what Tpetra uses).
