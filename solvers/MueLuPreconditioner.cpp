@@ -4,6 +4,9 @@
 #include <string>
 
 #ifdef IMPM_HAVE_MUELU
+// First: KokkosKernels 13.2's graph-colouring headers include each other in a circle, and MueLu's
+// (non-ETI) aggregation headers reach them from the side that breaks it.
+#include <KokkosGraph_Distance1Color.hpp>
 #include <MueLu_CreateTpetraPreconditioner.hpp>
 #include <MueLu_MasterList.hpp>
 #include <MueLu_TpetraOperator.hpp>
