@@ -11,6 +11,9 @@
 #include <MueLu_MasterList.hpp>
 #include <MueLu_TpetraOperator.hpp>
 #include <Teuchos_DefaultSerialComm.hpp>
+#ifdef HAVE_MPI
+#include <Teuchos_DefaultMpiComm.hpp>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -346,11 +349,16 @@ class MueLuPreconditionerCache : public PreconditionerCache {
   }
 
   // A hierarchy of at least two levels on a small 2D-elasticity-like matrix (a chain of 40 nodes,
-  // 2 unknowns each, the first node's second one constrained away) over a serial communicator, and
+  // 2 unknowns each, the first node's second one constrained away) over a one-process communicator, and
   // one application: MueLu and Ifpack2 check the values of the list here rather than at the first
   // time step.
   void probe() const {
+#ifdef HAVE_MPI
+    // (MueLu 13.2's Hierarchy::describe casts the communicator to Teuchos::MpiComm when built with MPI.)
+    RCP<const Teuchos::Comm<int>> self = rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
+#else
     RCP<const Teuchos::Comm<int>> self = rcp(new Teuchos::SerialComm<int>());
+#endif
     const int nodes = 40, upn = 2, n = nodes * upn;
     std::vector<GO> gids;
     for (GO r = 0; r < n; ++r)

@@ -20,7 +20,7 @@ Teuchos::ParameterList mueLuDefaults();
 // A MueLu preconditioner cache for the deck's `Implicit Solver/MueLu` list (impm's defaults filled
 // in). Throws std::invalid_argument with one line naming 'Implicit Solver/MueLu[/<key>]' when MueLu
 // does not know a key or rejects a value: keys are checked against MueLu's master list, values by
-// building a hierarchy on a small matrix over a serial communicator (not collective). Throws too
+// building a hierarchy on a small matrix over a one-process communicator (not collective). Throws too
 // when this Trilinos has no MueLu.
 Teuchos::RCP<PreconditionerCache> makeMueLuPreconditioner(const Teuchos::ParameterList& params);
 
