@@ -331,7 +331,8 @@ class MueLuPreconditionerCache : public PreconditionerCache {
   // rigid-body modes and node coordinates when the model gives its geometry.
   static std::shared_ptr<Built> build(const RCP<const CrsMatrix>& P, const ParameterList& params,
                                       const RCP<const MultiVector>& coords, int upn) {
-    auto padded = std::make_shared<const PaddedSystem>(*P->getRowMap(), upn);
+    // The unknowns' order is the domain map's (the vectors'); P's row map may list them otherwise.
+    auto padded = std::make_shared<const PaddedSystem>(*P->getDomainMap(), upn);
     ParameterList list(params);
     list.set("number of equations", upn);
     if (!coords.is_null() && (upn == 2 || upn == 3) && (int)coords->getNumVectors() == upn) {
@@ -344,7 +345,7 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     RCP<MueLuOperator> mueLu = MueLu::CreateTpetraPreconditioner<Scalar, LO, GO, Node>(A, list);
     auto b = std::make_shared<Built>();
     b->padded = padded;
-    b->op = rcp(new PaddedOperator(P->getRowMap(), padded, mueLu));
+    b->op = rcp(new PaddedOperator(P->getDomainMap(), padded, mueLu));
     return b;
   }
 
