@@ -390,6 +390,19 @@ RCP<const ParameterList> validParameters() {
            "run's time step (what an exact-in-space Newmark integration gives: isolates the spatial error)");
   }
   {
+    ParameterList& p = valid->sublist("Decomposition", false,
+                                      "how MPI ranks split the grid: a Cartesian grid of ranks, each owning a box of cells");
+    p.set("Ranks X", 0,
+          "ranks along x (0: impm chooses every direction left 0, the factorisation of the rank count with the fewest "
+          "nodes on rank boundaries); Ranks X x Ranks Y (x Ranks Z) must equal the rank count when all are given");
+    p.set("Ranks Y", 0, "ranks along y (0: chosen by impm)");
+    p.set("Ranks Z", 0, "ranks along z, 3D only (0: chosen by impm)");
+    p.set("Migration Slack Cells", 1,
+          "particles migrate lazily: a rank's ghost band is this many cells wider than its stencils need, and "
+          "particles are exchanged with neighbouring ranks only once one of them is further than this from its "
+          "rank's cells (0: after every step in which a particle changed rank)");
+  }
+  {
     ParameterList& p = valid->sublist("Output", false, "what is written");
     p.set("History Interval", 10, "steps between rows of history.csv");
     p.set("VTK Interval", 0, "steps between VTU particle files (0: first and last step only)");

@@ -59,6 +59,7 @@ class Simulation {
   std::vector<ConstraintSpec> buildConstraints();
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
+  void noteLoadImbalance(RunResult& r) const;
   void checkParticlesInReach(double t) const;
   void checkCpdiDomainsInReach(double t) const;
   // Over all ranks, the largest |stress| / c11 of a particle (its strain), +inf when a
@@ -101,6 +102,7 @@ class Simulation {
   std::string shape_;  // Method/Shape Function
   Placement placement_ = Placement::Lattice;
   std::unique_ptr<GridDistribution> dist_;
+  int migrationSlack_ = 0;  // Decomposition/Migration Slack Cells
   ParticleSet particles_;
   NodalConstraints constraints_;
   LoadSet loads_;

@@ -157,8 +157,17 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
 
   std::vector<ConstraintSpec> cspecs = buildConstraints();
   // A CPDI domain's corners may lie in 3 cells per direction: its stencil reaches 2 cells beyond
-  // the particle's own (Cpdi::max_nodes_1d), one column more than the other shapes.
-  dist_ = std::make_unique<GridDistribution>(grid_, comm_, shape_ == "CPDI" ? 3 : 2);
+  // the particle's own (Cpdi::max_nodes_1d), one cell more than the other shapes. The migration
+  // slack widens the ghost band so that particles may stray that far before they migrate.
+  const ParameterList& dec = deck_.sublist("Decomposition");
+  migrationSlack_ = dec.get<int>("Migration Slack Cells");
+  if (migrationSlack_ < 0)
+    throw DeckError("'Decomposition/Migration Slack Cells' must be 0 or positive, got " + std::to_string(migrationSlack_));
+  const int reach = shape_ == "CPDI" ? 3 : 2;
+  // A rank's block is wider than the slack, so that a particle can only stray into a neighbour's.
+  const RankGrid ranks(grid_, comm_->getSize(), {dec.get<int>("Ranks X"), dec.get<int>("Ranks Y"), dec.get<int>("Ranks Z")},
+                       migrationSlack_ + 1);
+  dist_ = std::make_unique<GridDistribution>(grid_, comm_, reach + migrationSlack_, ranks);
   try {
     particles_ = createParticles(bodies_, materials_, *dist_, placement_, thickness_);
     if (materials_.anyHistory()) particles_.allocateHistory();

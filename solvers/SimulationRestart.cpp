@@ -24,14 +24,9 @@ void Simulation::writeCheckpointAt(int step, const RunResult& r, const History& 
 }
 
 void Simulation::restartFrom(const std::string& dir) {
-  const StructuredGrid g = grid_;
-  const int begin = dist_->cellColumnBegin(), end = dist_->cellColumnEnd();
-  // At another rank count, a particle goes to the rank whose slab holds its cell column (the
-  // rule of particle creation and migration).
-  auto mine = [&](double x) {
-    const int c = cellColumnOf(g, x);
-    return c >= begin && c < end;
-  };
+  // At another rank count, a particle goes to the rank that owns its cell (the rule of particle
+  // creation and migration).
+  auto mine = [&](const double* x) { return dist_->ownsPoint(x); };
   CheckpointContent c = readCheckpoint(dir, deck_, particles_.packedWidth(), particles_.dim, mine, comm_);
   if (c.step > steps_)
     throw CheckpointError("--restart '" + dir + "': the checkpoint is of step " + std::to_string(c.step) +
