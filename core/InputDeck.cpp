@@ -401,6 +401,12 @@ RCP<const ParameterList> validParameters() {
           "particles migrate lazily: a rank's ghost band is this many cells wider than its stencils need, and "
           "particles are exchanged with neighbouring ranks only once one of them is further than this from its "
           "rank's cells (0: after every step in which a particle changed rank)");
+    p.set("Load Balance Interval", 0,
+          "steps between load-balance checks (0: never; also at the start when positive): when the largest rank's "
+          "particle count exceeds 'Load Balance Threshold' times the mean, the cuts between ranks move along each "
+          "direction to equalise the particles per plane of ranks (tensor splits), and particles, grid maps and the "
+          "integrator follow. The imbalance is in summary.yaml (Decomposition)");
+    p.set("Load Balance Threshold", 1.1, "rebalance only above this max / mean particles per rank (>= 1)");
   }
   {
     ParameterList& p = valid->sublist("Output", false, "what is written");

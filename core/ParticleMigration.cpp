@@ -1,6 +1,7 @@
 #include "core/ParticleMigration.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
+#include <Tpetra_Distributor.hpp>
 
 #include <algorithm>
 #include <stdexcept>
@@ -135,6 +136,93 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int sl
   long long moved = 0;
   Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, leavingCount, Teuchos::outArg(moved));
   return moved;
+}
+
+long long sendParticlesToOwners(ParticleSet& ps, const GridDistribution& dist) {
+  const auto& comm = *dist.comm();
+  if (comm.getSize() == 1) return 0;
+  const StructuredGrid g = dist.grid();
+  const int rank = comm.getRank(), nd = g.dim;
+  auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+  std::vector<int> stay, leaving, destination;
+  for (int p = 0; p < ps.count; ++p) {
+    int c[3] = {0, 0, 0};
+    for (int d = 0; d < nd; ++d) c[d] = cellIndexOf(g, d, xh(p, d));
+    const int owner = dist.rankGrid().ownerOfCell(c[0], c[1], c[2]);
+    if (owner == rank) {
+      stay.push_back(p);
+    } else {
+      leaving.push_back(p);
+      destination.push_back(owner);
+    }
+  }
+  // Grouped by destination (stable), as the Distributor sends them.
+  std::vector<int> order(leaving.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = (int)k;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return destination[a] < destination[b]; });
+  const int width = ps.packedWidth();
+  ParticleSet::Ids idx("rebalance_indices", leaving.size());
+  auto ih = Kokkos::create_mirror_view(idx);
+  std::vector<int> procs(leaving.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    ih(k) = leaving[order[k]];
+    procs[k] = destination[order[k]];
+  }
+  Kokkos::deep_copy(idx, ih);
+  ParticleSet::Packed rows("rebalance_rows", leaving.size(), width);
+  ps.pack(idx, rows);
+  auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rows);
+  std::vector<double> exports(rh.data(), rh.data() + leaving.size() * width);
+
+  Tpetra::Distributor distributor(dist.comm());
+  const size_t arriving = distributor.createFromSends(Teuchos::ArrayView<const int>(procs));
+  std::vector<double> imports(std::max<size_t>(1, arriving * width));
+  distributor.doPostsAndWaits(Teuchos::ArrayView<const double>(exports), (size_t)width,
+                              Teuchos::ArrayView<double>(imports.data(), arriving * width));
+
+  ParticleSet::Ids keptIdx("rebalance_kept", stay.size());
+  auto kh = Kokkos::create_mirror_view(keptIdx);
+  for (size_t k = 0; k < stay.size(); ++k) kh(k) = stay[k];
+  Kokkos::deep_copy(keptIdx, kh);
+  ParticleSet::Packed kept("rebalance_kept_rows", stay.size(), width);
+  ps.pack(keptIdx, kept);
+  ParticleSet::Packed received("rebalance_received", arriving, width);
+  auto recvh = Kokkos::create_mirror_view(received);
+  for (size_t k = 0; k < arriving; ++k)
+    for (int c = 0; c < width; ++c) recvh(k, c) = imports[k * width + c];
+  Kokkos::deep_copy(received, recvh);
+  ParticleSet next(0, ps.dim);
+  if (ps.hasHistory()) next.allocateHistory();
+  next.unpackAppend(kept);
+  next.unpackAppend(received);
+  ps = next;
+  long long moved = 0, local = (long long)leaving.size();
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, local, Teuchos::outArg(moved));
+  return moved;
+}
+
+std::array<std::vector<double>, 3> particleHistograms(const ParticleSet& ps, const StructuredGrid& g,
+                                                     const Teuchos::Comm<int>& comm) {
+  const int nd = g.dim;
+  int n[3] = {g.nx, g.ny, nd == 3 ? g.nz : 1};
+  auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+  std::vector<double> local(n[0] + n[1] + n[2], 0.0), global(local.size(), 0.0);
+  for (int p = 0; p < ps.count; ++p) {
+    int offset = 0;
+    for (int d = 0; d < 3; ++d) {
+      const int c = d < nd ? cellIndexOf(g, d, xh(p, d)) : 0;
+      local[offset + c] += 1.0;
+      offset += n[d];
+    }
+  }
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, (int)local.size(), local.data(), global.data());
+  std::array<std::vector<double>, 3> h;
+  int offset = 0;
+  for (int d = 0; d < 3; ++d) {
+    h[d].assign(global.begin() + offset, global.begin() + offset + n[d]);
+    offset += n[d];
+  }
+  return h;
 }
 
 }  // namespace impm

@@ -8,6 +8,9 @@
 // Particles fixed in place (the FE reference) never migrate.
 #pragma once
 
+#include <array>
+#include <vector>
+
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
 
@@ -18,5 +21,16 @@ namespace impm {
 // moved (over all ranks; 0 when nothing was exchanged). Throws std::runtime_error when a particle
 // went beyond the neighbouring ranks' blocks in one step.
 long long migrateParticles(ParticleSet& particles, const GridDistribution& dist, int slack = 0);
+
+// After the rank grid changed (load balance): every particle goes to the rank that owns its cell,
+// wherever it is (Tpetra::Distributor: one message per pair of ranks that exchange). Collective.
+// The kept particles keep their order, then the arrivals by increasing sender rank. Returns the
+// number of particles that moved (over all ranks).
+long long sendParticlesToOwners(ParticleSet& particles, const GridDistribution& dist);
+
+// The particle count per cell index along each direction, summed over all ranks (the load
+// balancer's histograms): counts[d][i] = particles whose cell index along d is i. Collective.
+std::array<std::vector<double>, 3> particleHistograms(const ParticleSet& particles, const StructuredGrid& grid,
+                                                     const Teuchos::Comm<int>& comm);
 
 }  // namespace impm

@@ -63,6 +63,15 @@ RankGrid::RankGrid(const StructuredGrid& grid, int nranks, std::array<int, 3> re
       }
     }
   }
+  long long requestedProduct = 1;
+  for (int d = 0; d < nd; ++d) requestedProduct *= std::max(1, requested[d]);
+  if (best == std::numeric_limits<long long>::max() && anyRequested && nranks % requestedProduct != 0) {
+    std::string asked;
+    for (int d = 0; d < nd; ++d)
+      if (requested[d] > 0) asked += std::string(asked.empty() ? "" : ", ") + "'Decomposition/Ranks " + kAxis[d] + "' = " + std::to_string(requested[d]);
+    throw DeckError(asked + " cannot split " + std::to_string(nranks) + " MPI rank(s): the rank counts per direction "
+                    "must multiply to the number of ranks");
+  }
   if (best == std::numeric_limits<long long>::max()) {
     std::string cells = "'Grid/Cells X' = " + std::to_string(cells_[0]) + ", 'Grid/Cells Y' = " + std::to_string(cells_[1]);
     if (nd == 3) cells += ", 'Grid/Cells Z' = " + std::to_string(cells_[2]);

@@ -40,7 +40,7 @@ struct RunResult {
   std::string divergence;
   // Particle migration between MPI ranks since this run (or restart) began, and the load
   // imbalance: the largest rank's particle count over the mean, at the end and at its worst.
-  int migrations = 0;
+  int migrations = 0, rebalances = 0;
   long long migratedParticles = 0;
   double loadImbalance = 1.0, loadImbalanceMax = 1.0;
   std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history

@@ -277,6 +277,17 @@ RunResult Simulation::run(std::ostream& log) {
     rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
   };
 
+  // Load balance (Decomposition/Load Balance Interval): at the start and every interval steps,
+  // when the imbalance exceeds the threshold. Monitors follow their particles by global id.
+  const bool balancing = loadBalanceInterval_ > 0 && comm_->getSize() > 1;
+  auto balanceLoad = [&] {
+    if (!rebalance()) return;
+    ++r.rebalances;
+    history.locateMonitors();
+    noteLoadImbalance(r);
+  };
+  if (balancing && !restarted_ && r.loadImbalance > loadBalanceThreshold_) balanceLoad();
+
   if (restarted_) {
     // The checkpoint's rows, as the interrupted run wrote them; its VTU files that are in this
     // output directory stay listed in particles.pvd, and the new ones continue their numbering.
@@ -356,6 +367,7 @@ RunResult Simulation::run(std::ostream& log) {
       r.migratedParticles += moved;
       noteLoadImbalance(r);
     }
+    if (balancing && (n + 1) % loadBalanceInterval_ == 0 && r.loadImbalance > loadBalanceThreshold_) balanceLoad();
     checkParticlesInReach(tNew);
     if ((n + 1) % historyInterval == 0 || n + 1 == steps_) {
       history.record(tNew, r);

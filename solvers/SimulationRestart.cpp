@@ -19,6 +19,7 @@ void Simulation::writeCheckpointAt(int step, const RunResult& r, const History& 
   particles_.pack(all, c.particles);
   Kokkos::fence();
   integrator_->saveState(c.state);
+  saveRankGrid(c.state);
   history.saveState(r, c.state);
   writeCheckpoint(outputDir_, deck_, c, comm_);
 }
@@ -39,6 +40,7 @@ void Simulation::restartFrom(const std::string& dir) {
   particles_.count = 0;
   particles_.unpackAppend(c.particles);
   Kokkos::fence();
+  restoreRankGrid(c.state);  // load-balanced cuts: the particles read are those of the cuts saved
   loads_.locateParticles(particles_);
   integrator_->restoreState(c.state);
   restartStep_ = c.step;

@@ -33,6 +33,8 @@ void Simulation::writeSummary(const RunResult& r) const {
     d.set("Migration Slack Cells", migrationSlack_);
     d.set("Migrations", r.migrations);
     d.set("Migrated Particles", (long long)r.migratedParticles);
+    d.set("Load Balance Interval", loadBalanceInterval_);
+    d.set("Rebalances", r.rebalances);
     d.set("Load Imbalance", r.loadImbalance);
     d.set("Load Imbalance Max", r.loadImbalanceMax);
   }
