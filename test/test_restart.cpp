@@ -144,6 +144,17 @@ TEUCHOS_UNIT_TEST(Restart, ExplicitCollidingDisks) {
   checkRestart(deck, "disks", 120, 70, out, success);
 }
 
+// Load balance moves the cuts between ranks before the checkpoint; a restart at the same rank
+// count takes the cuts back from it (bit for bit), another rank count starts from its own.
+TEUCHOS_UNIT_TEST(Restart, LoadBalancedDisks) {
+  ParameterList deck = deckOf("colliding_disks_explicit_cpgimp_neohookean.yaml");
+  deck.sublist("Bodies").sublist("lower disk").set("Center X", 0.3).set("Center Y", 0.3);
+  deck.sublist("Bodies").sublist("upper disk").set("Center X", 0.62).set("Center Y", 0.62).set("Radius X", 0.12).set("Radius Y", 0.12);
+  deck.sublist("Decomposition").set("Load Balance Interval", 10);
+  deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 5);
+  checkRestart(deck, "balanced_disks", 400, 230, out, success);
+}
+
 TEUCHOS_UNIT_TEST(Restart, ImplicitBeam) {
   ParameterList deck = deckOf("beam_implicit_mpm_plane_strain.yaml");
   // Assembled Newton with the direct solver: np 1 and np 2 then agree to round-off, so that the
