@@ -1,8 +1,8 @@
 // Answers independent of the rank count: the same deck on np ranks (in several rank grids:
 // slabs across x, across y, across z in 3D) and on one rank gives the same monitor and energy
 // histories to 1e-10 relative, on runs whose particles cross rank boundaries many times:
-// colliding disks (explicit MPM, and explicit cpGIMP neo-Hookean at large strain), colliding
-// boxes in 3D, and the large-deflection CPDI cantilever solved implicitly by assembled Newton
+// colliding disks (explicit MPM, and explicit cpGIMP neo-Hookean at large strain, also load
+// balanced), a standing wave in a bar (GIMP, eager migration), colliding boxes in 3D, and the large-deflection CPDI cantilever solved implicitly by assembled Newton
 // with a direct solve (a Krylov preconditioner depends on the decomposition, so only a direct
 // solve agrees to 1e-10). Run at np 1 (the rank grid is trivial: checks that the decks run), 2 and 3.
 #include <Teuchos_CommHelpers.hpp>
@@ -126,6 +126,17 @@ TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitCpgimpDisksLoadBalanced) {
   deck.sublist("Decomposition").set("Load Balance Interval", 20);
   const int np = Tpetra::getDefaultComm()->getSize();
   checkIndependence("disks_cpgimp_balanced", deck, {{np, 1, 0}}, out, success);
+}
+
+// A bar whose standing wave carries particles across cell lines (amplitude 0.3 h) and so across
+// the rank boundaries at the middle of the bar, with migration after every step that moves one
+// (Migration Slack Cells 0: the eager path).
+TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitGimpStandingWaveEagerMigration) {
+  ParameterList deck = appDeck("standing_wave_gimp.yaml");
+  deck.sublist("Decomposition").set("Migration Slack Cells", 0);
+  deck.sublist("Output").set("History Interval", 64);
+  const int np = Tpetra::getDefaultComm()->getSize();
+  checkIndependence("standing_wave", deck, {{np, 1, 0}}, out, success);
 }
 
 // A cube flies along the diagonal of a 3D grid through the centre, where the rank blocks meet,
