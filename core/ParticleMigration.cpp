@@ -18,6 +18,26 @@ struct CellBox {
     return c[0] >= lo[0] && c[0] < hi[0] && c[1] >= lo[1] && c[1] < hi[1] && c[2] >= lo[2] && c[2] < hi[2];
   }
 };
+// The rows of the particles `list` (host indices), packed on the device.
+ParticleSet::Packed packList(const ParticleSet& ps, const std::vector<int>& list) {
+  ParticleSet::Ids idx("migration_indices", list.size());
+  auto ih = Kokkos::create_mirror_view(idx);
+  for (size_t k = 0; k < list.size(); ++k) ih(k) = list[k];
+  Kokkos::deep_copy(idx, ih);
+  ParticleSet::Packed rows("migration_rows", list.size(), ps.packedWidth());
+  ps.pack(idx, rows);
+  return rows;
+}
+
+// `n` rows of `width` values from a host buffer (received), on the device.
+ParticleSet::Packed rowsFromHost(const double* buffer, size_t n, int width) {
+  ParticleSet::Packed rows("migration_received", n, width);
+  auto h = Kokkos::create_mirror_view(rows);
+  for (size_t k = 0; k < n; ++k)
+    for (int c = 0; c < width; ++c) h(k, c) = buffer[k * width + c];
+  Kokkos::deep_copy(rows, h);
+  return rows;
+}
 }  // namespace
 
 long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int slack) {
@@ -80,15 +100,7 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int sl
                              "a smaller time step or a smaller 'Decomposition/Migration Slack Cells')");
 
   const int width = ps.packedWidth();
-  auto packRows = [&](const std::vector<int>& list) {
-    ParticleSet::Ids idx("migration_indices", list.size());
-    auto ih = Kokkos::create_mirror_view(idx);
-    for (size_t k = 0; k < list.size(); ++k) ih(k) = list[k];
-    Kokkos::deep_copy(idx, ih);
-    ParticleSet::Packed rows("migration_rows", list.size(), width);
-    ps.pack(idx, rows);
-    return rows;
-  };
+  auto packRows = [&](const std::vector<int>& list) { return packList(ps, list); };
   // Zero-length messages still travel as one padding value, so that every posted receive matches a send.
   auto toHostRows = [&](const ParticleSet::Packed& rows) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rows);
@@ -118,14 +130,7 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int sl
   }
   exchange(rowsOut, rowsIn, 4202);
 
-  auto rowsOf = [&](const Teuchos::ArrayRCP<double>& buf, int n) {
-    ParticleSet::Packed rows("migration_received", n, width);
-    auto h = Kokkos::create_mirror_view(rows);
-    for (int k = 0; k < n; ++k)
-      for (int c = 0; c < width; ++c) h(k, c) = buf[k * width + c];
-    Kokkos::deep_copy(rows, h);
-    return rows;
-  };
+  auto rowsOf = [&](const Teuchos::ArrayRCP<double>& buf, int n) { return rowsFromHost(buf.getRawPtr(), n, width); };
   // The kept particles keep their order, then the arrivals in increasing rank of their sender:
   // the order depends only on the decomposition (a restart at the same rank count is bit for bit).
   ParticleSet next(0, ps.dim);
@@ -161,18 +166,13 @@ long long sendParticlesToOwners(ParticleSet& ps, const GridDistribution& dist) {
   for (size_t k = 0; k < order.size(); ++k) order[k] = (int)k;
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return destination[a] < destination[b]; });
   const int width = ps.packedWidth();
-  ParticleSet::Ids idx("rebalance_indices", leaving.size());
-  auto ih = Kokkos::create_mirror_view(idx);
-  std::vector<int> procs(leaving.size());
+  std::vector<int> sent(order.size()), procs(order.size());
   for (size_t k = 0; k < order.size(); ++k) {
-    ih(k) = leaving[order[k]];
+    sent[k] = leaving[order[k]];
     procs[k] = destination[order[k]];
   }
-  Kokkos::deep_copy(idx, ih);
-  ParticleSet::Packed rows("rebalance_rows", leaving.size(), width);
-  ps.pack(idx, rows);
-  auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rows);
-  std::vector<double> exports(rh.data(), rh.data() + leaving.size() * width);
+  auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), packList(ps, sent));
+  std::vector<double> exports(rh.data(), rh.data() + sent.size() * width);
 
   Tpetra::Distributor distributor(dist.comm());
   const size_t arriving = distributor.createFromSends(Teuchos::ArrayView<const int>(procs));
@@ -180,17 +180,8 @@ long long sendParticlesToOwners(ParticleSet& ps, const GridDistribution& dist) {
   distributor.doPostsAndWaits(Teuchos::ArrayView<const double>(exports), (size_t)width,
                               Teuchos::ArrayView<double>(imports.data(), arriving * width));
 
-  ParticleSet::Ids keptIdx("rebalance_kept", stay.size());
-  auto kh = Kokkos::create_mirror_view(keptIdx);
-  for (size_t k = 0; k < stay.size(); ++k) kh(k) = stay[k];
-  Kokkos::deep_copy(keptIdx, kh);
-  ParticleSet::Packed kept("rebalance_kept_rows", stay.size(), width);
-  ps.pack(keptIdx, kept);
-  ParticleSet::Packed received("rebalance_received", arriving, width);
-  auto recvh = Kokkos::create_mirror_view(received);
-  for (size_t k = 0; k < arriving; ++k)
-    for (int c = 0; c < width; ++c) recvh(k, c) = imports[k * width + c];
-  Kokkos::deep_copy(received, recvh);
+  const ParticleSet::Packed kept = packList(ps, stay);
+  const ParticleSet::Packed received = rowsFromHost(imports.data(), arriving, width);
   ParticleSet next(0, ps.dim);
   if (ps.hasHistory()) next.allocateHistory();
   next.unpackAppend(kept);
