@@ -99,8 +99,13 @@ ParameterList appDeck(const std::string& file) {
   return *impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/" + file);
 }
 
-// Slabs across x and across y: the disks collide on the cut at x = 0.5 (or y = 0.5).
-std::vector<std::array<int, 3>> slabs2d(int np) { return {{np, 1, 0}, {1, np, 0}}; }
+// Slabs across x and across y: the disks collide on the cut at x = 0.5 (or y = 0.5); at np 4
+// also 2 x 2 blocks, whose corner is the collision point.
+std::vector<std::array<int, 3>> slabs2d(int np) {
+  std::vector<std::array<int, 3>> layouts = {{np, 1, 0}, {1, np, 0}};
+  if (np % 2 == 0 && np > 2) layouts.push_back({2, np / 2, 0});
+  return layouts;
+}
 
 // Linear MPM amplifies round-off: each cell crossing jumps a particle's stress gradient, so a
 // difference in the last bit (the order in which ranks' partial nodal sums add up) grows over the
