@@ -210,6 +210,7 @@ ParameterList checkpointedDeck(const ParameterList& deck) {
   ParameterList plain;
   plainCopy(deck, plain);
   plain.remove("Output", false);
+  plain.remove("Decomposition", false);  // how ranks split the grid: the restart may use another
   if (plain.isSublist("Problem")) plain.sublist("Problem").remove("Output Directory", false);
   if (plain.isSublist("Integrator")) plain.sublist("Integrator").remove("Number of Steps", false);
   return plain;

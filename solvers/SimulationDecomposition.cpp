@@ -50,7 +50,12 @@ void Simulation::restoreRankGrid(const NamedArrays& state) {
   const std::vector<double>& s = found->second;
   size_t at = 1;
   for (int d = 0; d < 3; ++d) {
-    if (at >= s.size() || int(s[at]) != saved.dims(d)) return;  // another rank grid: the deck's stands
+    if (at >= s.size() || int(s[at]) != saved.dims(d)) {
+      // Another rank grid (the deck's Decomposition changed): the deck's stands, and the
+      // particles go to their ranks in it.
+      sendParticlesToOwners(particles_, *dist_);
+      return;
+    }
     std::vector<int> cuts(s.begin() + at + 1, s.begin() + at + 2 + saved.dims(d));
     at += 2 + saved.dims(d);
     saved.setCuts(d, cuts);
