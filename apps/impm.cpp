@@ -13,7 +13,7 @@
 //   --output DIR        override the deck's Problem/Output Directory
 //   --restart DIR       continue from the checkpoint in DIR (Output/Checkpoint Interval writes
 //                       OUTPUT/checkpoint); the deck must be the one that wrote it (except Output,
-//                       Problem/Output Directory and Integrator/Number of Steps)
+//                       Decomposition, Problem/Output Directory and Integrator/Number of Steps)
 //   --timers            time the main phases (Teuchos::TimeMonitor): a table at the end of the
 //                       run, and the totals in summary.yaml (Timers)
 //   --help              usage and every valid parameter with its documentation

@@ -3,7 +3,8 @@
 
 Runs the deck (outputs off) once per configuration and reads each run's summary.yaml:
 particle-steps per second, wall time per step, parallel efficiency against the first
-configuration, and peak resident memory per particle (GNU time, the largest rank). Writes a
+configuration, peak resident memory per particle (GNU time, the largest rank), and the rank grid
+with its worst load imbalance (max / mean particles per rank, summary.yaml Decomposition). Writes a
 markdown table and a PNG into --out.
 
   strong scaling: the same deck at every (ranks, threads) of --ranks x --threads
@@ -67,9 +68,12 @@ def run(impm, deck, ranks, threads, workdir, tag):
     with open(os.path.join(out, "summary.yaml")) as f:
         s = yaml.safe_load(f)["summary"]
     rss = max([int(v) for v in re.findall(r"maxrss_kib=(\d+)", r.stderr)] or [0])
+    decomposition = s.get("Decomposition", {})
     return {"ranks": ranks, "threads": threads, "particles": int(s["Particles"]), "steps": int(s["Steps"]),
             "wall": float(s["Wall Time"]), "rate": float(s["Particle Steps Per Second"]),
-            "bytes_per_particle": 1024.0 * rss * ranks / max(1, int(s["Particles"]))}
+            "bytes_per_particle": 1024.0 * rss * ranks / max(1, int(s["Particles"])),
+            "rank_grid": str(decomposition.get("Rank Grid", "1 x 1")),
+            "imbalance": float(decomposition.get("Load Imbalance Max", 1.0))}
 
 
 def main():
@@ -118,14 +122,16 @@ def main():
              f"row: strong = speed-up / (workers ratio), weak = rate per worker ratio. Memory: peak resident set of "
              f"the largest rank x ranks / particles (with each process's Trilinos/MPI baseline of about 60 MB, "
              f"so it falls as the problem grows).", "",
-             "| ranks | threads | particles | M particle-steps/s | ms per step | speed-up | efficiency | bytes/particle |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| ranks (grid) | threads | particles | M particle-steps/s | ms per step | speed-up | efficiency | bytes/particle "
+             "| imbalance |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         workers = r["ranks"] * r["threads"]
         speedup = r["rate"] / first["rate"]
         eff = speedup / (workers / first_workers)
-        lines.append(f"| {r['ranks']} | {r['threads']} | {r['particles']} | {r['rate'] / 1e6:.2f} | "
-                     f"{1e3 * r['wall'] / r['steps']:.3f} | {speedup:.2f} | {eff:.2f} | {r['bytes_per_particle']:.0f} |")
+        lines.append(f"| {r['ranks']} ({r['rank_grid']}) | {r['threads']} | {r['particles']} | {r['rate'] / 1e6:.2f} | "
+                     f"{1e3 * r['wall'] / r['steps']:.3f} | {speedup:.2f} | {eff:.2f} | {r['bytes_per_particle']:.0f} | "
+                     f"{r['imbalance']:.2f} |")
     table = os.path.join(args.out, f"{kind}_scaling.md")
     with open(table, "w") as f:
         f.write("\n".join(lines) + "\n")

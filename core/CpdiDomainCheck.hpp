@@ -1,6 +1,6 @@
 // The run loop's check on CPDI domains (after each step's migration): a domain whose corners
 // need more than Cpdi::max_nodes_1d nodes in some direction (stretched or sheared across more
-// than 3 cells), or whose stencil reaches beyond the node columns its MPI rank sees.
+// than 3 cells), or whose stencil reaches beyond the box of nodes its MPI rank sees.
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -24,7 +24,8 @@ CpdiDomainReport checkCpdiDomains(const StructuredGrid& g, const LocalNodeIndexe
   auto outside = KOKKOS_LAMBDA(int p, bool& capped, bool& beyond) {
     const ParticleStencil<Cpdi, Dim> st(g, x, hs, F, p);
     capped = st.capped;
-    beyond = st.first[0] < ix.colBegin || st.first[0] + st.count[0] > ix.colEnd;
+    beyond = false;
+    for (int d = 0; d < Dim; ++d) beyond = beyond || st.first[d] < ix.lo[d] || st.first[d] + st.count[d] > ix.end(d);
   };
   CpdiDomainReport r;
   Kokkos::parallel_reduce(

@@ -1,12 +1,14 @@
-// How the grid is spread over MPI ranks: each rank owns a slab of cell columns (all rows and
-// layers), the node columns at their left edges (the last rank also the right edge of the grid), and sees a
-// band of ghost node columns either side wide enough for every particle it owns.
+// How the grid is spread over MPI ranks: a Cartesian block decomposition (RankGrid). Each rank owns
+// a box of cells, the nodes at their lower edges along each direction (the last block along a
+// direction also the grid's upper edge), and sees a band of `ghostWidth` ghost nodes around its box
+// on every side, wide enough for the stencils of every particle it owns.
 // Grid fields live in Tpetra multivectors over these maps; one Import is built here.
 #pragma once
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_RCP.hpp>
 
+#include "core/RankGrid.hpp"
 #include "core/StructuredGrid.hpp"
 #include "core/Types.hpp"
 
@@ -14,16 +16,24 @@ namespace impm {
 
 class GridDistribution {
  public:
-  GridDistribution(const StructuredGrid& grid, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                   int ghostColumns = 2);
+  // The rank grid impm chooses for this grid and rank count (RankGrid with nothing requested).
+  GridDistribution(const StructuredGrid& grid, const Teuchos::RCP<const Teuchos::Comm<int>>& comm, int ghostWidth = 2);
+  GridDistribution(const StructuredGrid& grid, const Teuchos::RCP<const Teuchos::Comm<int>>& comm, int ghostWidth,
+                   const RankGrid& ranks);
 
   const StructuredGrid& grid() const { return grid_; }
   const Teuchos::RCP<const Teuchos::Comm<int>>& comm() const { return comm_; }
 
-  // Cell columns this rank owns particles in: [cellColumnBegin, cellColumnEnd).
-  int cellColumnBegin() const { return cellBegin_; }
-  int cellColumnEnd() const { return cellEnd_; }
-  bool ownsCellColumn(int i) const { return i >= cellBegin_ && i < cellEnd_; }
+  const RankGrid& rankGrid() const { return ranks_; }
+  int ghostWidth() const { return ghostWidth_; }
+  // The cells this rank owns particles in: [cellBegin(d), cellEnd(d)) along direction d.
+  int cellBegin(int d) const { return cellLo_[d]; }
+  int cellEnd(int d) const { return cellHi_[d]; }
+  bool ownsCell(int ci, int cj, int ck = 0) const {
+    return ci >= cellLo_[0] && ci < cellHi_[0] && cj >= cellLo_[1] && cj < cellHi_[1] && ck >= cellLo_[2] && ck < cellHi_[2];
+  }
+  // Whether this rank owns the cell holding a point (coordinates x[0..dim)).
+  bool ownsPoint(const double* x) const;
 
   Teuchos::RCP<const Map> ownedNodeMap() const { return ownedMap_; }
   Teuchos::RCP<const Map> ghostedNodeMap() const { return ghostedMap_; }
@@ -36,7 +46,9 @@ class GridDistribution {
  private:
   StructuredGrid grid_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
-  int cellBegin_ = 0, cellEnd_ = 0;
+  RankGrid ranks_;
+  int ghostWidth_ = 2;
+  int cellLo_[3] = {0, 0, 0}, cellHi_[3] = {1, 1, 1};
   LocalNodeIndexer owned_, ghosted_;
   Teuchos::RCP<const Map> ownedMap_, ghostedMap_;
   Teuchos::RCP<const Import> importer_;

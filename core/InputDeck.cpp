@@ -390,6 +390,25 @@ RCP<const ParameterList> validParameters() {
            "run's time step (what an exact-in-space Newmark integration gives: isolates the spatial error)");
   }
   {
+    ParameterList& p = valid->sublist("Decomposition", false,
+                                      "how MPI ranks split the grid: a Cartesian grid of ranks, each owning a box of cells");
+    p.set("Ranks X", 0,
+          "ranks along x (0: impm chooses every direction left 0, the factorisation of the rank count with the fewest "
+          "nodes on rank boundaries); Ranks X x Ranks Y (x Ranks Z) must equal the rank count when all are given");
+    p.set("Ranks Y", 0, "ranks along y (0: chosen by impm)");
+    p.set("Ranks Z", 0, "ranks along z, 3D only (0: chosen by impm)");
+    p.set("Migration Slack Cells", 1,
+          "particles migrate lazily: a rank's ghost band is this many cells wider than its stencils need, and "
+          "particles are exchanged with neighbouring ranks only once one of them is further than this from its "
+          "rank's cells (0: after every step in which a particle changed rank)");
+    p.set("Load Balance Interval", 0,
+          "steps between load-balance checks (0: never; also at the start when positive): when the largest rank's "
+          "particle count exceeds 'Load Balance Threshold' times the mean, the cuts between ranks move along each "
+          "direction to equalise the particles per plane of ranks (tensor splits), and particles, grid maps and the "
+          "integrator follow. The imbalance is in summary.yaml (Decomposition)");
+    p.set("Load Balance Threshold", 1.1, "rebalance only above this max / mean particles per rank (>= 1)");
+  }
+  {
     ParameterList& p = valid->sublist("Output", false, "what is written");
     p.set("History Interval", 10, "steps between rows of history.csv");
     p.set("VTK Interval", 0, "steps between VTU particle files (0: first and last step only)");
@@ -399,7 +418,8 @@ RCP<const ParameterList> validParameters() {
           "steps between checkpoints (0: none): every particle field, the integrator's state and the history rows "
           "so far, in OUTPUT/checkpoint (a link to OUTPUT/checkpoint_<step>; only the latest is kept, written to a "
           "temporary directory and renamed when complete). `impm DECK --restart OUTPUT/checkpoint` continues from it: "
-          "the deck must be the same except Output, Problem/Output Directory and Integrator/Number of Steps; "
+          "the deck must be the same except Output, Decomposition, Problem/Output Directory and Integrator/Number of "
+          "Steps; "
           "history.csv is rewritten from the checkpoint's rows and continued, and equals the uninterrupted run's "
           "(bit for bit at the same rank and thread count, except assembled Newton with an iterative linear solver "
           "whose preconditioner is refreshed less often than every step: the restart builds a fresh one). "

@@ -106,6 +106,8 @@ struct ParticleSet {
     return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0) + (hasHistory() ? kHistoryCount : 0);
   }
   using Packed = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;
+  // The column of a packed row that holds the position's component d.
+  static constexpr int packedPositionColumn(int d) { return 5 * d; }
 
   // Rows of `buffer` (extent indices.extent(0) x packedWidth()) from the particles `indices`.
   void pack(const Ids& indices, const Packed& buffer) const {

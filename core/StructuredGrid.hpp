@@ -1,7 +1,7 @@
 // A structured background grid of box cells, in 2D (nz = 0: one layer of nodes) or 3D.
 // Nodes are numbered with x slowest and z fastest, node(i, j, k) = (i * (ny + 1) + j) * (nz + 1) + k
-// (in 2D: i * (ny + 1) + j), so that a slab of cell columns owns a contiguous range of global
-// node ids; the node map partitions over x slabs.
+// (in 2D: i * (ny + 1) + j). The node maps are built from lists of ids (GridDistribution), so a
+// rank's box of nodes need not be a contiguous range.
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -35,17 +35,44 @@ struct StructuredGrid {
   KOKKOS_INLINE_FUNCTION int cells(int d) const { return d == 0 ? nx : d == 1 ? ny : nz; }
 };
 
-// Local indexing of the nodes a rank sees (owned plus ghost): node columns
-// [colBegin, colEnd) of the global grid, every row and layer. Used inside kernels.
+// The cell index along direction d of a point at coordinate x, clamped to the grid (0 along z in
+// 2D). A point on a cell line belongs to the cell above it (the 1e-9 absorbs rounding in
+// positions computed as origin + k h). Particle creation, migration and restart all use it.
+KOKKOS_INLINE_FUNCTION int cellIndexOf(const StructuredGrid& g, int d, double x) {
+  const int n = g.cells(d);
+  if (d == 2 && g.dim != 3) return 0;
+  const double xi = (x - g.origin(d)) / g.spacing(d) + 1e-9;
+  int i = static_cast<int>(xi);
+  if (xi < i) --i;
+  return i < 0 ? 0 : (i > n - 1 ? n - 1 : i);
+}
+
+// Local indexing of the nodes a rank sees (owned plus ghost): the box of global node indices
+// [lo[d], lo[d] + n[d]) per direction (n[2] = 1 in 2D), numbered x slowest like the global ids.
+// Used inside kernels.
 struct LocalNodeIndexer {
-  int colBegin = 0, colEnd = 0, nodesY = 0, nodesZ = 1;
+  int lo[3] = {0, 0, 0};
+  int n[3] = {0, 0, 1};
   KOKKOS_INLINE_FUNCTION int operator()(int i, int j, int k = 0) const {
-    return ((i - colBegin) * nodesY + j) * nodesZ + k;
+    return ((i - lo[0]) * n[1] + (j - lo[1])) * n[2] + (k - lo[2]);
   }
   KOKKOS_INLINE_FUNCTION bool contains(int i, int j, int k = 0) const {
-    return i >= colBegin && i < colEnd && j >= 0 && j < nodesY && k >= 0 && k < nodesZ;
+    return i >= lo[0] && i < lo[0] + n[0] && j >= lo[1] && j < lo[1] + n[1] && k >= lo[2] && k < lo[2] + n[2];
   }
-  KOKKOS_INLINE_FUNCTION int size() const { return (colEnd - colBegin) * nodesY * nodesZ; }
+  KOKKOS_INLINE_FUNCTION int size() const { return n[0] * n[1] * n[2]; }
+  KOKKOS_INLINE_FUNCTION int end(int d) const { return lo[d] + n[d]; }
+
+  // The node box [lo, hi) per direction.
+  static LocalNodeIndexer box(int lo0, int hi0, int lo1, int hi1, int lo2 = 0, int hi2 = 1) {
+    LocalNodeIndexer ix;
+    ix.lo[0] = lo0; ix.lo[1] = lo1; ix.lo[2] = lo2;
+    ix.n[0] = hi0 - lo0; ix.n[1] = hi1 - lo1; ix.n[2] = hi2 - lo2;
+    return ix;
+  }
+  // Every node of the grid.
+  static LocalNodeIndexer wholeGrid(const StructuredGrid& g) {
+    return box(0, g.nodesX(), 0, g.nodesY(), 0, g.nodesZ());
+  }
 };
 
 }  // namespace impm

@@ -134,9 +134,8 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
   std::vector<long long> ids;
   std::vector<const TaggedPoint*> mine;
   for (size_t k = 0; k < all.size(); ++k) {
-    const double xp = all[k].point.x;
-    const int column = std::max(0, std::min(g.nx - 1, (int)std::floor((xp - g.x0) / g.hx + 1e-9)));
-    if (!dist.ownsCellColumn(column)) continue;
+    const double xp[3] = {all[k].point.x, all[k].point.y, all[k].point.z};
+    if (!dist.ownsPoint(xp)) continue;
     mine.push_back(&all[k]);
     ids.push_back((long long)k);
   }

@@ -210,6 +210,7 @@ ParameterList checkpointedDeck(const ParameterList& deck) {
   ParameterList plain;
   plainCopy(deck, plain);
   plain.remove("Output", false);
+  plain.remove("Decomposition", false);  // how ranks split the grid: the restart may use another
   if (plain.isSublist("Problem")) plain.sublist("Problem").remove("Output Directory", false);
   if (plain.isSublist("Integrator")) plain.sublist("Integrator").remove("Number of Steps", false);
   return plain;
@@ -262,7 +263,7 @@ void writeCheckpoint(const std::string& outputDir, const ParameterList& deck, co
 }
 
 CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& deck, int width, int dim,
-                                 const std::function<bool(double)>& keep,
+                                 const std::function<bool(const double*)>& keep,
                                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const int rank = comm->getRank(), ranks = comm->getSize();
   CheckpointContent content;
@@ -314,15 +315,20 @@ CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& de
                               " bytes, header.xml says " + std::to_string(expected));
     }
     // Same rank count: this rank's own file, its particles in their order. Otherwise every file,
-    // keeping the particles of this rank's slab (and the per-rank arrays of all).
+    // keeping the particles of this rank's cells (and the per-rank arrays of all).
     const bool same = writers == ranks;
     for (int r = same ? rank : 0; r < (same ? rank + 1 : writers); ++r) {
       RankFile f = readRankFile(dir + "/" + rankFileName(r), dim, width);
       if (f.step != content.step)
         throw CheckpointError(where + rankFileName(r) + " is of step " + std::to_string(f.step) + ", header.xml of step " +
                               std::to_string(content.step));
+      auto mine = [&](int64_t p) {
+        double x[3] = {0, 0, 0};
+        for (int d = 0; d < dim; ++d) x[d] = f.rows[size_t(p) * width + ParticleSet::packedPositionColumn(d)];
+        return keep(x);
+      };
       for (int64_t p = 0; p < f.count; ++p)
-        if (same || keep(f.rows[size_t(p) * width]))
+        if (same || mine(p))
           kept.insert(kept.end(), f.rows.begin() + size_t(p) * width, f.rows.begin() + size_t(p + 1) * width);
       for (auto& [name, values] : f.arrays) {
         const bool perRank = name.rfind(kNodeArrayPrefix, 0) == 0;

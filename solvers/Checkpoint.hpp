@@ -14,7 +14,7 @@
 // impm version, the deck, every rank file's size, magic numbers and widths. Each failure is a
 // CheckpointError (a DeckError: exit 2) naming what differs. At the rank count that wrote it a
 // rank reads its own file (the particles keep their order: the run continues bit for bit); at
-// another rank count every rank reads every file and keeps the particles of its slab.
+// another rank count every rank reads every file and keeps the particles of its cells.
 #pragma once
 
 #include <Teuchos_Comm.hpp>
@@ -64,11 +64,11 @@ void writeCheckpoint(const std::string& outputDir, const Teuchos::ParameterList&
                      const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
 
 // Reads and checks the checkpoint in `dir` against `deck`. `keep(x)` says whether a particle at
-// x (first coordinate) belongs to this rank (used when the rank count differs). `width` and
+// x (x[0..dim)) belongs to this rank (used when the rank count differs). `width` and
 // `dim` are the particle set's packed width and dimension. Collective; throws CheckpointError on
 // every rank when anything is wrong.
 CheckpointContent readCheckpoint(const std::string& dir, const Teuchos::ParameterList& deck, int width, int dim,
-                                 const std::function<bool(double)>& keep,
+                                 const std::function<bool(const double*)>& keep,
                                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
 
 }  // namespace impm

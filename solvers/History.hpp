@@ -38,6 +38,11 @@ struct RunResult {
   int divergedStep = -1;              // when diverged: the first bad step, its time and why
   double divergedTime = 0;
   std::string divergence;
+  // Particle migration between MPI ranks since this run (or restart) began, and the load
+  // imbalance: the largest rank's particle count over the mean, at the end and at its worst.
+  int migrations = 0, rebalances = 0;
+  long long migratedParticles = 0;
+  double loadImbalance = 1.0, loadImbalanceMax = 1.0;
   std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history
   std::vector<double> time;                  // the recorded history
   std::map<std::string, std::vector<double>> computed, exact;

@@ -39,9 +39,10 @@ IfpackPreconditionerCache::IfpackPreconditionerCache(const std::string& type,
 }
 
 RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const CrsMatrix>& P) const {
+  const std::string& type = type_;
   RCP<Ifpack2Preconditioner> prec;
   try {
-    prec = Ifpack2::Factory::create<RowMatrix>(type_, RCP<const RowMatrix>(P));
+    prec = Ifpack2::Factory::create<RowMatrix>(type, RCP<const RowMatrix>(P));
   } catch (const std::exception& e) {
     throw std::invalid_argument("invalid value '" + type_ + "' for 'Implicit Solver/Preconditioner' (Ifpack2: " +
                                 e.what() + ")");
@@ -53,8 +54,8 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   Teuchos::ParameterList copy(params_);
   // Ifpack2's Amesos2 wrapper throws unless its options come in a sublist called "Amesos2": an
   // empty one means KLU2 with its defaults.
-  if (type_ == "AMESOS2" && !copy.isSublist("Amesos2")) copy.sublist("Amesos2");
-  if (type_ == "SCHWARZ" && copy.isType<std::string>("subdomain solver name") &&
+  if (type == "AMESOS2" && !copy.isSublist("Amesos2")) copy.sublist("Amesos2");
+  if (type == "SCHWARZ" && copy.isType<std::string>("subdomain solver name") &&
       copy.get<std::string>("subdomain solver name") == "AMESOS2" &&
       !copy.sublist("subdomain solver parameters").isSublist("Amesos2"))
     copy.sublist("subdomain solver parameters").sublist("Amesos2");
@@ -68,6 +69,18 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
 
 RCP<TpetraOperator> IfpackPreconditionerCache::update(const RCP<const CrsMatrix>& P, long valuesVersion) {
   PhaseTimer phase("preconditioner set-up");
+  if (type_ == "AMESOS2" && P->getComm()->getSize() > 1) {
+    if (blockDirect_.is_null()) blockDirect_ = rcp(new LocalBlockDirectInverse());
+    const bool current = P.get() == matrix_.get() && valuesVersion >= 0 && valuesVersion == valuesVersion_;
+    if (!current) {
+      blockDirect_->factor(P);
+      ++computations_;
+      initializations_ = blockDirect_->symbolicFactorizations();
+    }
+    matrix_ = P;
+    valuesVersion_ = valuesVersion;
+    return blockDirect_;
+  }
   // Same object with a static (const) graph: only the values can have changed, so the symbolic
   // setup stands. Anything else may have a new structure: start from a fresh preconditioner.
   const bool sameStructure = !prec_.is_null() && P.get() == matrix_.get() && P->isStaticGraph();
@@ -91,6 +104,94 @@ RCP<TpetraOperator> IfpackPreconditionerCache::update(const RCP<const CrsMatrix>
   ++computations_;
   valuesVersion_ = valuesVersion;
   return prec_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// LocalBlockDirectInverse
+
+class LocalBlockDirectInverse::Block {
+ public:
+  using Solver = Amesos2::Solver<CrsMatrix, MultiVector>;
+  RCP<const Map> serialMap;
+  RCP<CrsMatrix> A;              // the rank's block, on a serial communicator
+  std::vector<size_t> rowStart;  // its pattern, to tell whether a symbolic factorisation stands
+  std::vector<LO> cols;
+  RCP<Solver> solver;
+};
+
+void LocalBlockDirectInverse::factor(const RCP<const CrsMatrix>& P) {
+  map_ = P->getRangeMap();
+  const RCP<const Map> rowMap = P->getRowMap(), colMap = P->getColMap();
+  const size_t n = rowMap->getNodeNumElements();
+  if (n == 0) {
+    block_ = Teuchos::null;
+    return;
+  }
+  // The block: rows of this rank, columns that are rows of this rank, in local numbering.
+  std::vector<size_t> rowStart(1, 0);
+  std::vector<LO> cols;
+  std::vector<Scalar> vals;
+  for (LO i = 0; i < static_cast<LO>(n); ++i) {
+    CrsMatrix::local_inds_host_view_type inds;
+    CrsMatrix::values_host_view_type v;
+    P->getLocalRowView(i, inds, v);
+    for (size_t k = 0; k < inds.extent(0); ++k) {
+      const LO local = rowMap->getLocalElement(colMap->getGlobalElement(inds(k)));
+      if (local == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+      cols.push_back(local);
+      vals.push_back(v(k));
+    }
+    rowStart.push_back(cols.size());
+  }
+  const bool samePattern = !block_.is_null() && block_->rowStart == rowStart && block_->cols == cols;
+  if (!samePattern) {
+    block_ = rcp(new Block());
+    RCP<const Teuchos::Comm<int>> self = rcp(new Teuchos::SerialComm<int>());
+    block_->serialMap = rcp(new Map(n, 0, self));
+    size_t widest = 1;
+    for (size_t i = 0; i < n; ++i) widest = std::max(widest, rowStart[i + 1] - rowStart[i]);
+    block_->A = rcp(new CrsMatrix(block_->serialMap, widest));
+    for (size_t i = 0; i < n; ++i) {
+      std::vector<GO> g(cols.begin() + rowStart[i], cols.begin() + rowStart[i + 1]);
+      block_->A->insertGlobalValues(GO(i), Teuchos::ArrayView<const GO>(g),
+                                    Teuchos::ArrayView<const Scalar>(vals.data() + rowStart[i], rowStart[i + 1] - rowStart[i]));
+    }
+    block_->A->fillComplete();
+    block_->rowStart = std::move(rowStart);
+    block_->cols = std::move(cols);
+    block_->solver = Amesos2::create<CrsMatrix, MultiVector>("klu2", block_->A);
+    block_->solver->symbolicFactorization();
+    ++symbolic_;
+  } else {
+    // Same pattern: new values only (by global column: the serial matrix's ids are the block's).
+    block_->A->resumeFill();
+    for (size_t i = 0; i < n; ++i) {
+      const size_t a = block_->rowStart[i], b = block_->rowStart[i + 1];
+      std::vector<GO> g(block_->cols.begin() + a, block_->cols.begin() + b);
+      block_->A->replaceGlobalValues(GO(i), Teuchos::ArrayView<const GO>(g),
+                                     Teuchos::ArrayView<const Scalar>(vals.data() + a, b - a));
+    }
+    block_->A->fillComplete();
+  }
+  block_->solver->numericFactorization();
+}
+
+void LocalBlockDirectInverse::apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode, Scalar alpha,
+                                    Scalar beta) const {
+  TEUCHOS_TEST_FOR_EXCEPTION(mode != Teuchos::NO_TRANS, std::logic_error,
+                             "impm::LocalBlockDirectInverse: only the non-transposed inverse is available");
+  if (block_.is_null()) {  // no rows here
+    Y.scale(beta);
+    return;
+  }
+  const size_t nv = X.getNumVectors();
+  MultiVector serialX(block_->serialMap, nv), serialY(block_->serialMap, nv);
+  Kokkos::deep_copy(serialX.getLocalViewHost(Tpetra::Access::OverwriteAll), X.getLocalViewHost(Tpetra::Access::ReadOnly));
+  block_->solver->solve(Teuchos::ptrFromRef(serialY), Teuchos::ptrFromRef(static_cast<const MultiVector&>(serialX)));
+  auto y = Y.getLocalViewHost(Tpetra::Access::ReadWrite);
+  auto s = serialY.getLocalViewHost(Tpetra::Access::ReadOnly);
+  for (size_t i = 0; i < y.extent(0); ++i)
+    for (size_t j = 0; j < nv; ++j) y(i, j) = beta == 0.0 ? alpha * s(i, j) : alpha * s(i, j) + beta * y(i, j);
 }
 
 // ---------------------------------------------------------------------------------------------

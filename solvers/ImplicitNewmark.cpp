@@ -349,17 +349,21 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
   const auto ghostMap = dist_.ghostedNodeMap();
   auto sg = stateGhosted_->getLocalViewHost(Tpetra::Access::ReadOnly);
   // Blocks of the ghost region (cells, Q9 elements or GIMP 3 x 3 (x 3) node patches), numbered
-  // locally column by column; each couples the free dofs of its nodes.
+  // locally x slowest; each couples the free dofs of its nodes. Along each direction the blocks
+  // start at multiples of the stride and lie inside the rank's ghosted box of nodes.
   int bn[3] = {1, 1, 1};
   for (int d = 0; d < Dim; ++d) bn[d] = std::min(blockNodes_, g.cells(d) + 1);
-  const int bnx = bn[0], blockNodeCount = bn[0] * bn[1] * bn[2];
+  const int blockNodeCount = bn[0] * bn[1] * bn[2];
   const int stride = blockStride_, nd = Dim * blockNodeCount;
-  const int firstBi = ((gix.colBegin + stride - 1) / stride) * stride;
-  const int blockCols = gix.colEnd - bnx >= firstBi ? (gix.colEnd - bnx - firstBi) / stride + 1 : 0;
-  const int blockRows = (g.ny + 1 - bn[1]) / stride + 1;
-  const int blockLayers = Dim == 3 ? (g.nz + 1 - bn[2]) / stride + 1 : 1;
+  int firstB[3] = {0, 0, 0}, blockCount[3] = {1, 1, 1};
+  for (int d = 0; d < Dim; ++d) {
+    firstB[d] = ((gix.lo[d] + stride - 1) / stride) * stride;
+    blockCount[d] = gix.end(d) - bn[d] >= firstB[d] ? (gix.end(d) - bn[d] - firstB[d]) / stride + 1 : 0;
+  }
+  const int blockCols = blockCount[0], blockRows = blockCount[1], blockLayers = blockCount[2];
   auto blockIndex = [&](int bi, int bj, int bk) {
-    return (size_t((bi - firstBi) / stride) * blockRows + bj / stride) * blockLayers + bk / stride;
+    return (size_t((bi - firstB[0]) / stride) * blockRows + (bj - firstB[1]) / stride) * blockLayers +
+           (bk - firstB[2]) / stride;
   };
   // Visits every (local block, r, c) coupling of two free dofs of a block.
   auto forEachBlockCoupling = [&](auto&& visit) {
@@ -368,7 +372,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
     for (int ci = 0; ci < blockCols; ++ci)
       for (int cj = 0; cj < blockRows; ++cj)
         for (int ck = 0; ck < blockLayers; ++ck) {
-          const int bi = firstBi + ci * stride, bj = cj * stride, bk = ck * stride;
+          const int bi = firstB[0] + ci * stride, bj = firstB[1] + cj * stride, bk = firstB[2] + ck * stride;
           for (int a = 0; a < blockNodeCount; ++a) {
             const int ln = gix(bi + a % bn[0], bj + (a / bn[0]) % bn[1], bk + a / (bn[0] * bn[1]));
             for (int d = 0; d < Dim; ++d) {

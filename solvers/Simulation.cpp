@@ -29,36 +29,56 @@ using Teuchos::ParameterList;
 
 Simulation::~Simulation() = default;
 
-// A rank maps its particles onto its ghosted node columns; after migration every particle is in
-// its rank's slab, so this catches particles that left the grid (or a ghost band too narrow).
+// The largest rank's particle count over the mean (particles move between ranks by migration only).
+void Simulation::noteLoadImbalance(RunResult& r) const {
+  const long long local = particles_.count;
+  long long largest = 0;
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, local, Teuchos::outArg(largest));
+  const double mean = double(r.particles) / comm_->getSize();
+  r.loadImbalance = mean > 0 ? largest / mean : 1.0;
+  r.loadImbalanceMax = std::max(r.loadImbalanceMax, r.loadImbalance);
+}
+
+// A rank maps its particles onto its ghosted box of nodes; after migration every particle is
+// within the migration slack of its rank's box, so this catches particles that left the grid (or a
+// ghost band too narrow).
 void Simulation::checkParticlesInReach(double t) const {
   const StructuredGrid g = grid_;
   const LocalNodeIndexer ix = dist_->ghostedIndexer();
-  // Between ranks, stencils reach one column beyond the particle domain's cells. At the grid's
-  // own edges a particle's centre must stay inside: an MPM point beyond the last node line loses
-  // the partition of unity (its weights no longer sum to 1), and a GIMP domain is clipped to the
+  // Between ranks, stencils reach one cell beyond the particle domain's cells. At the grid's own
+  // edges a particle's centre must stay inside: an MPM point beyond the last node line loses the
+  // partition of unity (its weights no longer sum to 1), and a GIMP domain is clipped to the
   // grid, which keeps at least half of it (ParticleStencil).
-  const bool lowEdge = ix.colBegin == 0, highEdge = ix.colEnd - 1 >= g.nx;
-  const double xLo = lowEdge ? g.x0 : g.nodeX(ix.colBegin) + g.hx;
-  const double xHi = highEdge ? g.xMax() : g.nodeX(ix.colEnd - 1) - g.hx;
-  const double yLo = g.y0, yHi = g.yMax(), zLo = g.z0, zHi = g.zMax();
-  const bool solid = g.dim == 3;
+  struct Reach {
+    double lo[3], hi[3];
+    bool lowEdge[3], highEdge[3];
+  } reach{};
+  const int nd = g.dim;
+  for (int d = 0; d < nd; ++d) {
+    reach.lowEdge[d] = ix.lo[d] == 0;
+    reach.highEdge[d] = ix.end(d) - 1 >= g.cells(d);
+    reach.lo[d] = reach.lowEdge[d] ? g.origin(d) : g.origin(d) + (ix.lo[d] + 1) * g.spacing(d);
+    reach.hi[d] = reach.highEdge[d] ? g.origin(d) + g.cells(d) * g.spacing(d)
+                                    : g.origin(d) + (ix.end(d) - 2) * g.spacing(d);
+  }
   auto x = particles_.x; auto hs = particles_.halfSize;
   int outside = 0;
   Kokkos::parallel_reduce(
       "check_particles_in_reach", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
       KOKKOS_LAMBDA(int p, int& count) {
-        const double reachLo = lowEdge ? x(p, 0) : x(p, 0) - hs(p, 0);
-        const double reachHi = highEdge ? x(p, 0) : x(p, 0) + hs(p, 0);
-        bool inside = reachLo >= xLo && reachHi <= xHi && x(p, 1) >= yLo && x(p, 1) <= yHi;
-        if (solid) inside = inside && x(p, 2) >= zLo && x(p, 2) <= zHi;
+        bool inside = true;
+        for (int d = 0; d < nd; ++d) {
+          const double lo = reach.lowEdge[d] ? x(p, d) : x(p, d) - hs(p, d);
+          const double hi = reach.highEdge[d] ? x(p, d) : x(p, d) + hs(p, d);
+          inside = inside && lo >= reach.lo[d] && hi <= reach.hi[d];
+        }
         if (!inside) ++count;
       },
       outside);
   int total = 0;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, outside, Teuchos::outArg(total));
   if (total > 0)
-    throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the columns their MPI rank maps at t = " +
+    throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the nodes their MPI rank maps at t = " +
                              formatNumber(t) + " s (use a larger grid)");
   if (shape_ == "CPDI") checkCpdiDomainsInReach(t);
 }
@@ -201,6 +221,7 @@ RunResult Simulation::run(std::ostream& log) {
   const long long localCount = particles_.count;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, localCount, Teuchos::outArg(r.particles));
   r.steps = steps_;
+  noteLoadImbalance(r);
 
   History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_);
   rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv"); });
@@ -255,6 +276,17 @@ RunResult Simulation::run(std::ostream& log) {
   auto writeSummaryOnRoot = [&](const RunResult& result) {
     rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
   };
+
+  // Load balance (Decomposition/Load Balance Interval): at the start and every interval steps,
+  // when the imbalance exceeds the threshold. Monitors follow their particles by global id.
+  const bool balancing = loadBalanceInterval_ > 0 && comm_->getSize() > 1;
+  auto balanceLoad = [&] {
+    if (!rebalance()) return;
+    ++r.rebalances;
+    history.locateMonitors();
+    noteLoadImbalance(r);
+  };
+  if (balancing && !restarted_ && r.loadImbalance > loadBalanceThreshold_) balanceLoad();
 
   if (restarted_) {
     // The checkpoint's rows, as the interrupted run wrote them; its VTU files that are in this
@@ -327,11 +359,15 @@ RunResult Simulation::run(std::ostream& log) {
                                std::to_string(goodStep) + ", t = " + formatNumber(goodTime) + " s) as " + goodFile + ".vtu,") +
                                " are in " + outputDir_);
     }
-    if (migrateParticles(particles_, *dist_) > 0) {
+    if (const long long moved = migrateParticles(particles_, *dist_, migrationSlack_); moved > 0) {
       // Local indices changed: find the monitored and loaded particles by global id.
       loads_.locateParticles(particles_);
       history.locateMonitors();
+      ++r.migrations;
+      r.migratedParticles += moved;
+      noteLoadImbalance(r);
     }
+    if (balancing && (n + 1) % loadBalanceInterval_ == 0 && r.loadImbalance > loadBalanceThreshold_) balanceLoad();
     checkParticlesInReach(tNew);
     if ((n + 1) % historyInterval == 0 || n + 1 == steps_) {
       history.record(tNew, r);

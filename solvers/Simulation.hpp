@@ -59,6 +59,17 @@ class Simulation {
   std::vector<ConstraintSpec> buildConstraints();
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
+  void noteLoadImbalance(RunResult& r) const;
+  // Load balance: new cuts from the particle histograms; when they differ, adoptRankGrid. Returns
+  // whether the cuts moved. Collective.
+  bool rebalance();
+  // Rebuilds everything that depends on the rank grid (maps, constraints, loads, integrator, whose
+  // state is carried over; a Jacobian-free preconditioner is rebuilt), moving the particles to
+  // their new ranks when `moveParticles`.
+  void adoptRankGrid(const RankGrid& ranks, bool moveParticles);
+  // The cuts in a checkpoint, and back (at the rank count that wrote them).
+  void saveRankGrid(NamedArrays& state) const;
+  void restoreRankGrid(const NamedArrays& state);
   void checkParticlesInReach(double t) const;
   void checkCpdiDomainsInReach(double t) const;
   // Over all ranks, the largest |stress| / c11 of a particle (its strain), +inf when a
@@ -101,6 +112,12 @@ class Simulation {
   std::string shape_;  // Method/Shape Function
   Placement placement_ = Placement::Lattice;
   std::unique_ptr<GridDistribution> dist_;
+  int migrationSlack_ = 0;  // Decomposition/Migration Slack Cells
+  int loadBalanceInterval_ = 0;
+  double loadBalanceThreshold_ = 1.1;
+  std::vector<ConstraintSpec> constraintSpecs_;
+  std::vector<LoadSpec> loadSpecs_;
+  std::vector<long long> loadParticleIds_;
   ParticleSet particles_;
   NodalConstraints constraints_;
   LoadSet loads_;

@@ -157,8 +157,24 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
 
   std::vector<ConstraintSpec> cspecs = buildConstraints();
   // A CPDI domain's corners may lie in 3 cells per direction: its stencil reaches 2 cells beyond
-  // the particle's own (Cpdi::max_nodes_1d), one column more than the other shapes.
-  dist_ = std::make_unique<GridDistribution>(grid_, comm_, shape_ == "CPDI" ? 3 : 2);
+  // the particle's own (Cpdi::max_nodes_1d), one cell more than the other shapes. The migration
+  // slack widens the ghost band so that particles may stray that far before they migrate.
+  const ParameterList& dec = deck_.sublist("Decomposition");
+  migrationSlack_ = dec.get<int>("Migration Slack Cells");
+  if (migrationSlack_ < 0)
+    throw DeckError("'Decomposition/Migration Slack Cells' must be 0 or positive, got " + std::to_string(migrationSlack_));
+  const int reach = shape_ == "CPDI" ? 3 : 2;
+  // A rank's block is wider than the slack, so that a particle can only stray into a neighbour's.
+  const RankGrid ranks(grid_, comm_->getSize(), {dec.get<int>("Ranks X"), dec.get<int>("Ranks Y"), dec.get<int>("Ranks Z")},
+                       migrationSlack_ + 1);
+  dist_ = std::make_unique<GridDistribution>(grid_, comm_, reach + migrationSlack_, ranks);
+  loadBalanceInterval_ = dec.get<int>("Load Balance Interval");
+  loadBalanceThreshold_ = dec.get<double>("Load Balance Threshold");
+  if (loadBalanceInterval_ < 0)
+    throw DeckError("'Decomposition/Load Balance Interval' must be 0 (off) or positive, got " + std::to_string(loadBalanceInterval_));
+  if (!(loadBalanceThreshold_ >= 1.0))
+    throw DeckError("'Decomposition/Load Balance Threshold' must be at least 1 (max / mean particles per rank), got " +
+                    formatNumber(loadBalanceThreshold_));
   try {
     particles_ = createParticles(bodies_, materials_, *dist_, placement_, thickness_);
     if (materials_.anyHistory()) particles_.allocateHistory();
@@ -166,6 +182,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     throw DeckError(e.what());
   }
   constraints_ = NodalConstraints(cspecs, *dist_);
+  constraintSpecs_ = cspecs;  // rebuilt for a new rank grid (load balance)
 
   // A manufactured solution (Exact Solution/Type) drives the initial state and a load: read it first.
   if (deck_.sublist("Exact Solution").get<std::string>("Type") == "Axis-Aligned Manufactured Solution") {
@@ -651,6 +668,8 @@ std::vector<LoadSpec> Simulation::buildLoads() {
   if (manufactured_ && std::none_of(specs.begin(), specs.end(), [](const LoadSpec& s) { return s.type == "Manufactured Body Force"; }))
     throw DeckError("'Exact Solution/Type' = Axis-Aligned Manufactured Solution needs a load of 'Type' = Manufactured Body "
                     "Force in Loads (without it the field is not a solution)");
+  loadSpecs_ = specs;  // rebuilt for a new rank grid (load balance)
+  loadParticleIds_ = loadParticle;
   loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size(), shape_ == "FE Q9");
   loads_.locateParticles(particles_);
   return specs;

@@ -19,19 +19,15 @@ void Simulation::writeCheckpointAt(int step, const RunResult& r, const History& 
   particles_.pack(all, c.particles);
   Kokkos::fence();
   integrator_->saveState(c.state);
+  saveRankGrid(c.state);
   history.saveState(r, c.state);
   writeCheckpoint(outputDir_, deck_, c, comm_);
 }
 
 void Simulation::restartFrom(const std::string& dir) {
-  const StructuredGrid g = grid_;
-  const int begin = dist_->cellColumnBegin(), end = dist_->cellColumnEnd();
-  // At another rank count, a particle goes to the rank whose slab holds its cell column (the
-  // rule of particle creation and migration).
-  auto mine = [&](double x) {
-    const int c = cellColumnOf(g, x);
-    return c >= begin && c < end;
-  };
+  // At another rank count, a particle goes to the rank that owns its cell (the rule of particle
+  // creation and migration).
+  auto mine = [&](const double* x) { return dist_->ownsPoint(x); };
   CheckpointContent c = readCheckpoint(dir, deck_, particles_.packedWidth(), particles_.dim, mine, comm_);
   if (c.step > steps_)
     throw CheckpointError("--restart '" + dir + "': the checkpoint is of step " + std::to_string(c.step) +
@@ -44,6 +40,7 @@ void Simulation::restartFrom(const std::string& dir) {
   particles_.count = 0;
   particles_.unpackAppend(c.particles);
   Kokkos::fence();
+  restoreRankGrid(c.state);  // load-balanced cuts: the particles read are those of the cuts saved
   loads_.locateParticles(particles_);
   integrator_->restoreState(c.state);
   restartStep_ = c.step;

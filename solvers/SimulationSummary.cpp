@@ -24,6 +24,20 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Time Step", dt_);
   s.set("End Time", dt_ * r.steps);
   s.set("MPI Ranks", comm_->getSize());
+  {
+    const RankGrid& ranks = dist_->rankGrid();
+    ParameterList& d = s.sublist("Decomposition");
+    std::string shape = std::to_string(ranks.dims(0)) + " x " + std::to_string(ranks.dims(1));
+    if (grid_.dim == 3) shape += " x " + std::to_string(ranks.dims(2));
+    d.set("Rank Grid", shape);
+    d.set("Migration Slack Cells", migrationSlack_);
+    d.set("Migrations", r.migrations);
+    d.set("Migrated Particles", (long long)r.migratedParticles);
+    d.set("Load Balance Interval", loadBalanceInterval_);
+    d.set("Rebalances", r.rebalances);
+    d.set("Load Imbalance", r.loadImbalance);
+    d.set("Load Imbalance Max", r.loadImbalanceMax);
+  }
   s.set("Threads", (int)ExecutionSpace::concurrency());
   s.set("Execution Space", std::string(ExecutionSpace::name()));
   s.set("Wall Time", r.wallSeconds);

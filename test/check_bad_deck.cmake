@@ -113,6 +113,11 @@ expect_failure(output_is_file "Name:" "Name:" "exists and is not a directory" OU
 set(good "${good_disks}")
 expect_failure(void_node_force "  Monitors:" "  Loads:\n    corner push:\n      Type: Node Force\n      X: 0.95\n      Y: 0.05\n      Force X: 1.0\n  Monitors:"
                "'Loads/corner push/Type' = Node Force at (0.95, 0.05): no particle reaches this grid node" NP 2)
+# Issue 10. A rank grid that leaves a rank without cells (the bar has one cell across y), and
+# requested rank counts that do not multiply to the number of ranks.
+set(good "${good_bar}")
+expect_failure(rank_without_cells "  Output:" "  Decomposition:\n    Ranks Y: 2\n  Output:" "'Grid/Cells Y' = 1" NP 2)
+expect_failure(rank_grid_product "  Output:" "  Decomposition:\n    Ranks X: 3\n    Ranks Y: 1\n  Output:" "'Decomposition/Ranks X'" NP 2)
 # A Particle Force or a monitor far from every body (the nearest particle is over all ranks).
 set(good "${good_bar}")
 expect_failure(far_particle_force "  Loads:" "  Loads:\n    far push:\n      Type: Particle Force\n      X: 99\n      Y: 99\n      Force X: 1.0"

@@ -60,7 +60,7 @@ template <int Dim>
 void checkCompleteness(Teuchos::FancyOStream& out, bool& success) {
   const StructuredGrid g = grid3d(Dim);
   std::mt19937 rng(11 + Dim);
-  impm::LocalNodeIndexer ix{0, g.nx + 1, g.ny + 1, Dim == 3 ? g.nz + 1 : 1};
+  const auto ix = impm::LocalNodeIndexer::wholeGrid(g);
   double worst = 0;
   int capped = 0, spread = 0;
   for (int k = 0; k < 1000; ++k) {
@@ -227,14 +227,14 @@ TEUCHOS_UNIT_TEST(Cpdi, DomainCheckNamesTheParticle) {
     id(p) = 100 + p;
   }
   Kokkos::deep_copy(ps.x, x); Kokkos::deep_copy(ps.halfSize, hs); Kokkos::deep_copy(ps.F, F); Kokkos::deep_copy(ps.id, id);
-  const impm::LocalNodeIndexer all{0, g.nx + 1, g.ny + 1, 1};
+  const auto all = impm::LocalNodeIndexer::wholeGrid(g);
   const auto r = impm::checkCpdiDomains<impm::ExecutionSpace, 2>(g, all, ps);
   TEST_EQUALITY(r.tooLarge, 1);
   TEST_EQUALITY(r.outOfReach, 0);
   TEST_EQUALITY(r.firstId, 101LL);
   // A rank that maps node columns 0..6 only: particle 2 (corners in cells 5..7, nodes up to 8)
   // and particle 3 (x in cell 8) are out of its reach.
-  const impm::LocalNodeIndexer slab{0, 7, g.ny + 1, 1};
+  const auto slab = impm::LocalNodeIndexer::box(0, 7, 0, g.ny + 1);
   const auto s = impm::checkCpdiDomains<impm::ExecutionSpace, 2>(g, slab, ps);
   TEST_EQUALITY(s.outOfReach, 2);
   TEST_EQUALITY(s.firstId, 101LL);

@@ -67,7 +67,7 @@ void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success, bool who
   if (std::is_same<Shape, impm::QuadraticLagrange>::value) g.ny = 10;  // even cell counts
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> frac(0.05, 0.5);
-  impm::LocalNodeIndexer ix{0, g.nx + 1, g.ny + 1, g.nz + 1};
+  const auto ix = impm::LocalNodeIndexer::wholeGrid(g);
   double worst = 0;
   for (int k = 0; k < 1000; ++k) {
     double xc[3], l[3];
