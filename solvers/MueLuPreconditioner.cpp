@@ -36,12 +36,17 @@ Teuchos::ParameterList mueLuDefaults() {
   d.set("multigrid algorithm", "sa");
   d.set("problem: symmetric", true);
   d.set("aggregation: type", "uncoupled");
-  // Symmetric Gauss-Seidel (Ifpack2 RELAXATION): fewer GMRES iterations on the beam's P than
-  // MueLu's default Chebyshev (see README, "Preconditioners under refinement").
+  // MueLu 13.2's Kokkos factories (aggregation, tentative prolongator) need twice the GMRES
+  // iterations of the classic ones on the beam's P (26 against 13 per Newton on 160 x 16, V-cycle).
+  d.set("use kokkos refactor", false);
+  // A W-cycle with 3 symmetric Gauss-Seidel sweeps (Ifpack2 RELAXATION): 9 GMRES per Newton from
+  // 80 x 8 to 320 x 32; a V-cycle needs 13, MueLu's default Chebyshev 27 (README, "Preconditioners
+  // under refinement").
+  d.set("cycle type", "W");
   d.set("smoother: type", "RELAXATION");
   ParameterList& smoother = d.sublist("smoother: params");
   smoother.set("relaxation: type", "Symmetric Gauss-Seidel");
-  smoother.set("relaxation: sweeps", 2);
+  smoother.set("relaxation: sweeps", 3);
   d.set("coarse: type", "KLU2");
   d.set("coarse: max size", 500);
   return d;
@@ -310,6 +315,7 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     // impm's defaults where the deck is silent; the smoother's type and its parameters go together.
     const ParameterList defaults = mueLuDefaults();
     const bool ownSmoother = params_.isParameter("smoother: type") || params_.isSublist("smoother: params");
+    ownCoarse_ = params_.isParameter("coarse: type") || params_.isSublist("coarse: params");
     for (auto it = defaults.begin(); it != defaults.end(); ++it) {
       const std::string& key = defaults.name(it);
       if (ownSmoother && (key == "smoother: type" || key == "smoother: params")) continue;
@@ -333,7 +339,7 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     if (sameStructure && valuesVersion >= 0 && valuesVersion == valuesVersion_) return op_->op;
     try {
       if (!sameStructure) {
-        op_ = build(P, params_, coords_, upn_);
+        op_ = build(P, coarseForRanks(P->getComm()->getSize()), coords_, upn_);
         matrix_ = P;
         coordsOfOp_ = coords_;
         ++initializations_;
@@ -355,6 +361,28 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     RCP<PaddedOperator> op;
   };
 
+  // The list for a run on `ranks` ranks. Amesos2 13.2's KLU2 solves wrongly on a matrix spread
+  // over several ranks (a tridiagonal system on 2 ranks: relative error 7.9, with this Trilinos
+  // and with the one built without MueLu), so MueLu's default coarse solve cannot be used there.
+  // impm's default becomes an additive Schwarz whose overlap (8) takes in most of the small coarse
+  // matrix, with a KLU2 solve of each rank's overlapped block on one process (which is right).
+  ParameterList coarseForRanks(int ranks) const {
+    if (ranks == 1) return params_;
+    const std::string type = params_.get<std::string>("coarse: type");
+    const bool direct = type == "KLU2" || type == "KLU" || type == "Klu" || type == "Klu2";
+    if (!direct) return params_;
+    if (ownCoarse_)
+      throw std::invalid_argument(kWhere + "/coarse: type' = " + type +
+                                  ": Amesos2 13.2 solves wrongly on more than one MPI rank; leave 'coarse: type' "
+                                  "unset (impm then uses SCHWARZ with KLU2 on each rank's block) or name an Ifpack2 type");
+    ParameterList list(params_);
+    list.set("coarse: type", "SCHWARZ");
+    ParameterList& coarse = list.sublist("coarse: params");
+    coarse.set("schwarz: overlap level", 8);
+    coarse.set("subdomain solver name", "AMESOS2");
+    return list;
+  }
+
   // MueLu on P padded to whole nodes, with "number of equations" = unknowns per node, and the
   // rigid-body modes and node coordinates when the model gives its geometry.
   static std::shared_ptr<Built> build(const RCP<const CrsMatrix>& P, const ParameterList& params,
@@ -369,7 +397,7 @@ class MueLuPreconditionerCache : public PreconditionerCache {
       user.set<RCP<MultiVector>>("Nullspace", rigidBodyModes(*nodeCoords, padded->map, upn));
       user.set<RCP<MultiVector>>("Coordinates", nodeCoords);
     }
-    RCP<TpetraOperator> A = padded->pad(*P);
+    RCP<CrsMatrix> A = padded->pad(*P);
     RCP<MueLuOperator> mueLu = MueLu::CreateTpetraPreconditioner<Scalar, LO, GO, Node>(A, list);
     auto b = std::make_shared<Built>();
     b->padded = padded;
@@ -423,6 +451,7 @@ class MueLuPreconditionerCache : public PreconditionerCache {
   ParameterList params_;
   RCP<const MultiVector> coords_, coordsOfOp_;
   int upn_ = 1;
+  bool ownCoarse_ = false;  // the deck chose the coarse solver
   std::shared_ptr<Built> op_;
   RCP<const CrsMatrix> matrix_;  // held so its address cannot be reused by a new matrix
   int initializations_ = 0;

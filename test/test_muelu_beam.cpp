@@ -1,8 +1,9 @@
 // Preconditioner: MUELU (smoothed-aggregation AMG, solvers/MueLuPreconditioner.cpp). On the seed
 // beam (apps/beam_implicit_mpm_plane_strain.yaml: implicit MPM, Jacobian-free Newton-Krylov,
-// linear tolerance 1e-8) at 40 x 4 and 80 x 8 cells: at most 10 GMRES iterations per Newton
-// iteration on average, and the mid-span deflection of the direct solve (AMESOS2) to the Newton
-// tolerance. And the deck checks of the 'Implicit Solver/MueLu' list.
+// linear tolerance 1e-8) at 80 x 8 and 160 x 16 cells (hierarchies of 2 and 3 levels): at most 10
+// GMRES iterations per Newton iteration on average, and the mid-span deflection of the direct
+// solve (AMESOS2) to the Newton tolerance. The one-level hierarchy is the exact inverse through
+// impm's padding, on one rank and two. And the deck checks of the 'Implicit Solver/MueLu' list.
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
 
@@ -11,6 +12,8 @@
 #include <iomanip>
 #include <sstream>
 #include <string>
+
+#include <Tpetra_CrsMatrix.hpp>
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
@@ -60,13 +63,85 @@ TEUCHOS_UNIT_TEST(MueLuBeam, FewKrylovIterationsAndTheDirectSolution) {
     TEST_THROW(impm::NewtonSolver s(pl), std::invalid_argument);
     return;
   }
-  for (int nx : {40, 80}) {
+  for (int nx : {80, 160}) {
     const BeamRun amg = runBeam(nx, "MUELU", 10, out);
     const BeamRun direct = runBeam(nx, "AMESOS2", 10, out);
     TEST_COMPARE(amg.gmresPerNewton, <=, 10.0);
     TEST_COMPARE(amg.newtonPerStep, <=, direct.newtonPerStep + 0.5);
     // The deck's Newton tolerance: a second Newton step changes w(L/2) by ~2.5e-8 of its amplitude.
     TEST_COMPARE(std::abs(amg.w - direct.w), <=, 1e-7 * direct.wMax);
+  }
+}
+
+// A one-level "hierarchy" (the matrix below `coarse: max size`) is MueLu's coarse solve alone: on
+// one rank KLU2, on two impm's SCHWARZ whose overlap (8) takes in this whole 12 x 6 node graph, so
+// each rank solves all of it. Either way the preconditioner must be the exact inverse of P, through
+// impm's padding of constrained components (P's unknowns skip them: gid = 2 node + component, with
+// gaps). The padding once sent MueLu the gapped gids, and Amesos2 13.2 solved wrongly on them (49
+// GMRES per Newton on the 40 x 4 beam); Amesos2's KLU2 on two ranks is wrong too.
+TEUCHOS_UNIT_TEST(MueLuBeam, OneLevelIsTheExactInverseThroughThePadding) {
+  if (!impm::mueLuAvailable()) return;
+  auto comm = Tpetra::getDefaultComm();
+  const int nx = 12, ny = 6, upn = 2, ranks = comm->getSize(), rank = comm->getRank();
+  auto constrained = [&](impm::GO node, int c) { return node == 0 || (node == nx * ny - 1 && c == 1); };
+  std::vector<impm::GO> gids;  // each rank a block of nodes, whole nodes only
+  for (impm::GO node = (impm::GO)nx * ny * rank / ranks; node < (impm::GO)nx * ny * (rank + 1) / ranks; ++node)
+    for (int c = 0; c < upn; ++c)
+      if (!constrained(node, c)) gids.push_back(upn * node + c);
+  using impm::GO;
+  auto map = Teuchos::rcp(new impm::Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                        Teuchos::ArrayView<const GO>(gids), 0, comm));
+  // An SPD, diagonally dominant 2-component operator on the 4-neighbour node graph.
+  auto P = Teuchos::rcp(new impm::CrsMatrix(map, 16));
+  auto coords = Teuchos::rcp(new impm::MultiVector(map, 2));
+  {
+    auto x = coords->getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t k = 0; k < gids.size(); ++k) {
+      const GO node = gids[k] / upn;
+      const int c = (int)(gids[k] % upn), i = (int)(node % nx), j = (int)(node / nx);
+      x(k, 0) = i, x(k, 1) = j;
+      std::vector<GO> cols{gids[k]};
+      std::vector<double> vals{4.5};
+      const int di[] = {1, -1, 0, 0}, dj[] = {0, 0, 1, -1};
+      for (int n = 0; n < 4; ++n) {
+        const int a = i + di[n], b = j + dj[n];
+        if (a < 0 || a >= nx || b < 0 || b >= ny) continue;
+        const GO other = (GO)b * nx + a;
+        for (int cc = 0; cc < upn; ++cc)
+          if (!constrained(other, cc)) cols.push_back(upn * other + cc), vals.push_back(cc == c ? -1.0 : 0.1);
+      }
+      P->insertGlobalValues(gids[k], Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
+    }
+  }
+  P->fillComplete();
+  ParameterList list;
+  list.set("coarse: max size", 100000);  // one level: the coarse solve on the whole padded P
+  auto cache = impm::makeMueLuPreconditioner(list);
+  cache->setUnknownGeometry(coords, upn);
+  auto M = cache->update(P);
+  impm::Vector x(map), Px(map), y(map);
+  x.randomize();
+  P->apply(x, Px);
+  M->apply(Px, y);
+  y.update(-1.0, x, 1.0);
+  const double error = y.norm2() / x.norm2();
+  out << "|M^-1 P x - x| / |x| = " << error << " on " << ranks << " rank(s)\n";
+  TEST_COMPARE(error, <, 1e-10);
+
+  // A deck that asks for KLU2 itself is told why not, on more than one rank.
+  if (ranks > 1) {
+    ParameterList klu(list);
+    klu.set("coarse: type", "KLU2");
+    auto refused = impm::makeMueLuPreconditioner(klu);  // (the deck-time check is one-process: fine)
+    refused->setUnknownGeometry(coords, upn);
+    std::string message;
+    try {
+      refused->update(P);
+    } catch (const std::exception& e) {
+      message = e.what();
+    }
+    out << message << "\n";
+    TEST_ASSERT(message.find("'Implicit Solver/MueLu/coarse: type' = KLU2") != std::string::npos);
   }
 }
 
@@ -109,3 +184,4 @@ TEUCHOS_UNIT_TEST(MueLuBeam, BadMueLuListsAreRefusedNamingTheKey) {
 }
 
 }  // namespace
+
