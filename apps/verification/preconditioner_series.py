@@ -6,6 +6,7 @@ Starts from apps/beam_implicit_mpm_plane_strain.yaml (Jacobian-Free Newton-Krylo
 1e-8, preconditioner refreshed every 10 steps) and changes only the grid and the preconditioner:
 
   MUELU    smoothed-aggregation AMG (impm's defaults, the rigid-body modes as near-null space)
+  MUELU2   the same on 2 ranks (uncoupled aggregation within each rank, SCHWARZ coarse solve)
   SCHWARZ  Ifpack2 additive Schwarz, overlap 1, Amesos2 (KLU2) subdomain solve; on one rank that is
            the exact LU of P, so it runs on --schwarz-ranks ranks (default 2)
   RILUK    Ifpack2 ILU(k), the deck's level of fill 4
@@ -36,6 +37,7 @@ BASE = os.path.join(REPO, "apps", "beam_implicit_mpm_plane_strain.yaml")
 
 PRECONDITIONERS = {
     "MUELU": {"Implicit Solver/Preconditioner": "MUELU", "Implicit Solver/Ifpack2": decks.DELETE},
+    "MUELU2": {"Implicit Solver/Preconditioner": "MUELU", "Implicit Solver/Ifpack2": decks.DELETE},
     "SCHWARZ": {"Implicit Solver/Preconditioner": "SCHWARZ",
                 "Implicit Solver/Ifpack2": {"schwarz: overlap level": 1, "subdomain solver name": "AMESOS2"}},
     "RILUK": {},
@@ -110,7 +112,7 @@ def main():
         for p in precs:
             for interval in intervals:
                 tag = f"{p.lower()}_{nx}x{nx // 10}" + (f"_every{interval}" if interval else "")
-                ranks = args.schwarz_ranks if p == "SCHWARZ" else 1
+                ranks = args.schwarz_ranks if p == "SCHWARZ" else 2 if p == "MUELU2" else 1
                 deck = beam_deck(base, nx, args.steps, p, interval, os.path.join(args.out, "runs", tag))
                 r = run_one(args.impm, deck, ranks, args.out, tag)
                 r.update(nx=nx, ny=nx // 10, precond=p, ranks=ranks, unknowns=unknowns(nx),
