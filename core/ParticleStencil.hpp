@@ -33,7 +33,7 @@ struct ParticleStencil {
   // Centre and half sizes of the particle domain (clipped to the grid, see build1d) from the
   // particle views: position(p, d), halfSize(p, d).
   template <class PositionView, class SizeView>
-  KOKKOS_INLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
+  KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
                                          const SizeView& halfSize, int p) {
     // Written out per direction (not a loop over d) so that each direction's grid constants are
     // plain members: the 2D kernels kept their speed this way.
@@ -43,18 +43,18 @@ struct ParticleStencil {
       build1d(position(p, 2), grid.z0, grid.hz, halfSize(p, 2), grid.nz, first[2], count[2], w[2], g[2]);
   }
   template <class PositionView, class SizeView>
-  KOKKOS_INLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
+  KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
                                          const SizeView& halfSize, NoDomainDeformation, int p)
       : ParticleStencil(grid, position, halfSize, p) {}
   // From coordinates: (x, y) and half sizes (lx, ly) in 2D.
-  KOKKOS_INLINE_FUNCTION
+  KOKKOS_FORCEINLINE_FUNCTION
   ParticleStencil(const StructuredGrid& grid, double x, double y, double lx, double ly) {
     static_assert(Dim == 2, "the (x, y, lx, ly) constructor is 2D");
     build1d(x, grid.x0, grid.hx, lx, grid.nx, first[0], count[0], w[0], g[0]);
     build1d(y, grid.y0, grid.hy, ly, grid.ny, first[1], count[1], w[1], g[1]);
   }
   // In Dim dimensions: centre xc[d] and half sizes l[d].
-  KOKKOS_INLINE_FUNCTION
+  KOKKOS_FORCEINLINE_FUNCTION
   ParticleStencil(const StructuredGrid& grid, const double* xc, const double* l) {
     for (int d = 0; d < Dim; ++d)
       build1d(xc[d], grid.origin(d), grid.spacing(d), l[d], grid.cells(d), first[d], count[d], w[d], g[d]);
@@ -62,12 +62,12 @@ struct ParticleStencil {
 
   // Node count along direction d; a compile-time constant for shapes with a fixed count, so
   // that kernels' loops unroll.
-  KOKKOS_INLINE_FUNCTION int nodes(int d) const { return Shape::fixed_count ? N : count[d]; }
+  KOKKOS_FORCEINLINE_FUNCTION int nodes(int d) const { return Shape::fixed_count ? N : count[d]; }
 
   // f(n, w, grad) for every node of the stencil: n its local index in `ix`, w = S_ip and
   // grad[d] = dS_ip/dx_d. The one loop over a particle's nodes; kernels plug in the rest.
   template <class F>
-  KOKKOS_INLINE_FUNCTION void forEachNode(const LocalNodeIndexer& ix, F&& f) const {
+  KOKKOS_FORCEINLINE_FUNCTION void forEachNode(const LocalNodeIndexer& ix, F&& f) const {
     if constexpr (Dim == 2) {
       for (int a = 0; a < nodes(0); ++a)
         for (int b = 0; b < nodes(1); ++b) {
@@ -87,7 +87,7 @@ struct ParticleStencil {
   }
   // The same with the stencil's own node offsets (a, b, c) instead of a grid index (assembly).
   template <class F>
-  KOKKOS_INLINE_FUNCTION void forEachOffset(F&& f) const {
+  KOKKOS_FORCEINLINE_FUNCTION void forEachOffset(F&& f) const {
     if constexpr (Dim == 2) {
       for (int a = 0; a < nodes(0); ++a)
         for (int b = 0; b < nodes(1); ++b) {
@@ -107,15 +107,22 @@ struct ParticleStencil {
   }
 
   // 2D accessors (tests): node (a, b) of the stencil.
-  KOKKOS_INLINE_FUNCTION int countX() const { return nodes(0); }
-  KOKKOS_INLINE_FUNCTION int countY() const { return nodes(1); }
-  KOKKOS_INLINE_FUNCTION double weight(int a, int b) const { return w[0][a] * w[1][b]; }
-  KOKKOS_INLINE_FUNCTION double gradX(int a, int b) const { return g[0][a] * w[1][b]; }
-  KOKKOS_INLINE_FUNCTION double gradY(int a, int b) const { return w[0][a] * g[1][b]; }
+  KOKKOS_FORCEINLINE_FUNCTION int countX() const { return nodes(0); }
+  KOKKOS_FORCEINLINE_FUNCTION int countY() const { return nodes(1); }
+  KOKKOS_FORCEINLINE_FUNCTION double weight(int a, int b) const { return w[0][a] * w[1][b]; }
+  KOKKOS_FORCEINLINE_FUNCTION double gradX(int a, int b) const { return g[0][a] * w[1][b]; }
+  KOKKOS_FORCEINLINE_FUNCTION double gradY(int a, int b) const { return w[0][a] * g[1][b]; }
 
  private:
-  KOKKOS_INLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,
+  KOKKOS_FORCEINLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,
                                              int& first, int& count, double* w, double* gr) {
+    if constexpr (HasInteriorStencil<Shape>::value) {
+      const double invh = 1.0 / h;
+      if (Shape::interiorStencil((x - origin) * invh, invh, ncells, first, w, gr)) {
+        count = 2;
+        return;
+      }
+    }
     if (!Shape::fixed_count) {
       // A particle domain is clipped to the grid: the grid's edge is the body's boundary. The
       // clipped domain's functions keep the partition of unity (sum w = 1, sum grad = 0), so

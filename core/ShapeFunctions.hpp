@@ -7,6 +7,9 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <type_traits>
+#include <utility>
+
 namespace impm {
 
 // floor(x) as an int, usable inside kernels (Kokkos 3.4 keeps floor in Experimental).
@@ -36,7 +39,30 @@ struct LinearMpm {
     first = floorToInt(xi);
     count = 2;
   }
+  // The whole 1D stencil of a point strictly inside a cell, from its grid coordinate
+  // xi = (x - origin) / h: node floor(xi) with weight 1 - f and node floor(xi) + 1 with f,
+  // f = xi - floor(xi), gradients -+1/h. What value() and gradient() give there, without their
+  // per-node branches and divisions (the explicit kernels build two stencils per particle and
+  // step). False, and nothing set, on a cell line or outside the grid's cells: the caller then
+  // takes the general path.
+  KOKKOS_INLINE_FUNCTION static bool interiorStencil(double xi, double invh, int ncells, int& first, double* w,
+                                                     double* gr) {
+    const int i = floorToInt(xi);
+    const double f = xi - i;
+    if (i < 0 || i >= ncells || !(f > 0.0)) return false;
+    first = i;
+    w[0] = 1.0 - f; w[1] = f;
+    gr[0] = -invh; gr[1] = invh;
+    return true;
+  }
 };
+
+// Whether a shape has LinearMpm's interiorStencil.
+template <class Shape, class = void>
+struct HasInteriorStencil : std::false_type {};
+template <class Shape>
+struct HasInteriorStencil<Shape, decltype(void(Shape::interiorStencil(0.0, 0.0, 0, std::declval<int&>(), nullptr, nullptr)))>
+    : std::true_type {};
 
 // Uniform GIMP (Bardenhagen & Kober 2004): the particle is a box of half size l (l <= h/2)
 // with characteristic function chi_p; S_ip = (1/V_p) int chi_p N_i dx, and the gradient

@@ -8,6 +8,13 @@
 #include <Tpetra_Import.hpp>
 #include <Tpetra_Export.hpp>
 
+// A cold path kept out of line, so that the hot code around it keeps its values in registers.
+#if defined(__GNUC__)
+#define IMPM_NOINLINE __attribute__((noinline))
+#else
+#define IMPM_NOINLINE
+#endif
+
 namespace impm {
 
 using Scalar = double;

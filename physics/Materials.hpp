@@ -3,6 +3,7 @@
 // as a Kokkos functor: several materials share one kernel instantiation). Each law lives in
 // its own file under physics/materials/. The kernels in core/ are templated on the law type and
 // call only its device interface:
+//   isLinearElastic(m)                small-strain linear elasticity (the kernels' inline fast path)
 //   finiteStrain(m)                   the model is written in the current configuration (the
 //                                     implicit residual then integrates over the deformed
 //                                     domain and the stiffness adds the geometric term)
@@ -50,6 +51,7 @@ struct MaterialLaw {
   Kokkos::View<double* [Count], Kokkos::LayoutRight, DeviceType> table;
 
   KOKKOS_INLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
+  KOKKOS_INLINE_FUNCTION bool isLinearElastic(int m) const { return model(m) == (int)MaterialModel::LinearElastic; }
   KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) != (int)MaterialModel::LinearElastic; }
   KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) == (int)MaterialModel::J2Plasticity; }
   KOKKOS_INLINE_FUNCTION LinearElasticModel linearElastic(int m) const {
@@ -62,7 +64,7 @@ struct MaterialLaw {
 
   // s may alias s0.
   template <int Dim>
-  KOKKOS_INLINE_FUNCTION void stress(int m, const double* s0, const double (&G)[Dim][Dim], const double (&F)[Dim][Dim],
+  KOKKOS_FORCEINLINE_FUNCTION void stress(int m, const double* s0, const double (&G)[Dim][Dim], const double (&F)[Dim][Dim],
                                      double* h, double* s) const {
     const int kind = model(m);
     if (kind == (int)MaterialModel::LinearElastic)

@@ -320,4 +320,34 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, GimpStencilIsComplete) {
   }
 }
 
+// LinearMpm's interior fast path (interiorStencil, taken by the stencil for points strictly
+// inside a cell) gives the per-node value() and gradient() to round-off, and declines on cell
+// lines, at the grid edge and outside, where the general path's clamping applies.
+TEUCHOS_UNIT_TEST(ShapeFunctions, LinearMpmInteriorStencilMatchesTheTraits) {
+  const StructuredGrid g = testGrid();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> ux(g.x0, g.xMax());
+  for (int k = 0; k < 5000; ++k) {
+    const double x = ux(rng);
+    int first = -1;
+    double w[2], gr[2];
+    TEST_ASSERT(LinearMpm::interiorStencil((x - g.x0) / g.hx, 1.0 / g.hx, g.nx, first, w, gr));
+    TEST_EQUALITY(first, (int)std::floor((x - g.x0) / g.hx));
+    for (int a = 0; a < 2; ++a) {
+      const double r = x - g.nodeX(first + a);
+      TEST_COMPARE(std::abs(w[a] - LinearMpm::value(r, g.hx, 0.0)), <, 1e-14);
+      TEST_COMPARE(std::abs(gr[a] - LinearMpm::gradient(r, g.hx, 0.0)), <, 1e-14 / g.hx);
+    }
+  }
+  int first = -1;
+  double w[2], gr[2];
+  for (double xi : {0.0, 3.0, double(g.nx), -0.5, g.nx + 0.25})
+    TEST_ASSERT(!LinearMpm::interiorStencil(xi, 1.0 / g.hx, g.nx, first, w, gr));
+  TEST_EQUALITY_CONST(first, -1);
+  // On the last grid line the stencil keeps the last cell (general path): weight 1 at the end node.
+  const ParticleStencil<LinearMpm> st(g, g.xMax(), g.y0 + 2.5 * g.hy, 0.0, 0.0);
+  TEST_EQUALITY(st.first[0], g.nx - 1);
+  TEST_FLOATING_EQUALITY(st.w[0][1], 1.0, 1e-14);
+}
+
 }  // namespace

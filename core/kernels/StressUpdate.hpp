@@ -23,11 +23,28 @@ struct DomainConvection {
   }
 };
 
+// The stress of a law other than linear elasticity (s in place, h the history when it has one).
+// Out of line and on copies of G, F and s: the hot linear-elastic path of updateParticleState
+// then keeps its small matrices in registers (their address never escapes; when it did, the
+// explicit G2P spent a fifth of its time in store-forwarding stalls).
+template <int Dim, class Law>
+KOKKOS_FUNCTION IMPM_NOINLINE void generalStress(const FixedParticleViews<Dim>& ps, const Law& law, int p, int m,
+                                 const double (&G)[Dim][Dim], const double (&Fn)[Dim][Dim], double* s) {
+  if (law.hasHistory(m)) {
+    double h[ParticleSet::kHistoryCount];
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = ps.history(p, i);
+    law.template stress<Dim>(m, s, G, Fn, h, s);
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) ps.history(p, i) = h[i];
+  } else {
+    law.template stress<Dim>(m, s, G, Fn, nullptr, s);
+  }
+}
+
 // G[i][j] = d(increment)_i / dx_j.
 template <int Dim, class Law>
-KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& ps, const Law& law, int p,
-                                                const double (&G)[Dim][Dim],
-                                                bool updateVolume = true, const DomainConvection& domain = {}) {
+KOKKOS_FORCEINLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& ps, const Law& law, int p,
+                                                     const double (&G)[Dim][Dim],
+                                                     bool updateVolume = true, const DomainConvection& domain = {}) {
   constexpr int ns = StressLayout<Dim>::count;
   double Fn[Dim][Dim];
   for (int i = 0; i < Dim; ++i)
@@ -39,13 +56,15 @@ KOKKOS_INLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& p
   double s[ns];
   for (int c = 0; c < ns; ++c) s[c] = ps.stress(p, c);
   const int m = ps.material(p);
-  if (law.hasHistory(m)) {
-    double h[ParticleSet::kHistoryCount];
-    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = ps.history(p, i);
-    law.template stress<Dim>(m, s, G, Fn, h, s);
-    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) ps.history(p, i) = h[i];
+  if (law.isLinearElastic(m)) {
+    law.linearElastic(m).template stress<Dim>(s, G, s);
   } else {
-    law.template stress<Dim>(m, s, G, Fn, nullptr, s);
+    double Gc[Dim][Dim], Fc[Dim][Dim], sc[ns];
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) { Gc[i][j] = G[i][j]; Fc[i][j] = Fn[i][j]; }
+    for (int c = 0; c < ns; ++c) sc[c] = s[c];
+    generalStress<Dim>(ps, law, p, m, Gc, Fc, sc);
+    for (int c = 0; c < ns; ++c) s[c] = sc[c];
   }
   for (int c = 0; c < ns; ++c) ps.stress(p, c) = s[c];
   if (domain.on)

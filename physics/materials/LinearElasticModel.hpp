@@ -16,7 +16,7 @@ struct LinearElasticModel {
   // s = s0 + D sym(G) in the stored layout (StressLayout<Dim>); G[i][j] = d(du_i)/dx_j. s may
   // alias s0.
   template <int Dim>
-  KOKKOS_INLINE_FUNCTION void stress(const double* s0, const double (&G)[Dim][Dim], double* s) const {
+  KOKKOS_FORCEINLINE_FUNCTION void stress(const double* s0, const double (&G)[Dim][Dim], double* s) const {
     const double a = c11, b = c12, c = c33;
     if constexpr (Dim == 2) {
       const double gamma = G[0][1] + G[1][0];  // engineering shear strain increment
