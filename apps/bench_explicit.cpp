@@ -10,16 +10,21 @@
 // <= 300 bytes per particle; (issue 9) neo-Hookean MPM at >= 60% of the linear throughput.
 //
 // Sample run:   build/apps/impm_bench_explicit            (spawns itself once per thread count)
+//               build/apps/impm_bench_explicit --case mpm2d --steps 400   (one case: mpm2d, gimp2d,
+//                 mpm3d, gimp3d, neohookean2d, j2-2d)
 //               build/apps/impm_bench_explicit --child --kokkos-threads=2 --steps 200
 #include <Tpetra_Core.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
 #include <string>
 
+#include "core/FloatingPoint.hpp"
 #include "core/InputDeck.hpp"
 #include "solvers/ExplicitStepper.hpp"
 #include "physics/Body.hpp"
@@ -78,9 +83,21 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
 int main(int argc, char** argv) {
   bool child = false;
   int steps = 200;
+  std::string only;
+  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d", "gimp3d", "neohookean2d", "j2-2d"};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--child")) child = true;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--case") && i + 1 < argc) only = argv[i + 1];
+  }
+  if (steps < 1) {
+    std::fprintf(stderr, "impm_bench_explicit: --steps must be a positive integer\n");
+    return 2;
+  }
+  if (!only.empty() && std::find(std::begin(cases), std::end(cases), only) == std::end(cases)) {
+    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d)\n",
+                 only.c_str());
+    return 2;
   }
   if (!child) {
     // One process per thread count: Kokkos fixes its thread count at initialisation.
@@ -90,18 +107,21 @@ int main(int argc, char** argv) {
     int status = 0;
     for (int threads : {1, 2}) {
       const std::string cmd = "OMP_PROC_BIND=false OMP_NUM_THREADS=" + std::to_string(threads) + " '" + argv[0] +
-                              "' --child --steps " + std::to_string(steps) + " --kokkos-threads=" + std::to_string(threads);
+                              "' --child --steps " + std::to_string(steps) + (only.empty() ? "" : " --case " + only) +
+                              " --kokkos-threads=" + std::to_string(threads);
       status |= std::system(cmd.c_str());
     }
     return status == 0 ? 0 : 1;
   }
+  impm::flushSubnormalsToZero();
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
-  runCase<impm::LinearMpm, 2>(steps, comm);
-  runCase<impm::UniformGimp, 2>(steps, comm);
-  runCase<impm::LinearMpm, 3>(steps, comm);
-  runCase<impm::UniformGimp, 3>(steps, comm);
-  runCase<impm::LinearMpm, 2>(steps, comm, impm::MaterialModel::NeoHookean);
-  runCase<impm::LinearMpm, 2>(steps, comm, impm::MaterialModel::J2Plasticity);
+  const auto wanted = [&](const char* name) { return only.empty() || only == name; };
+  if (wanted("mpm2d")) runCase<impm::LinearMpm, 2>(steps, comm);
+  if (wanted("gimp2d")) runCase<impm::UniformGimp, 2>(steps, comm);
+  if (wanted("mpm3d")) runCase<impm::LinearMpm, 3>(steps, comm);
+  if (wanted("gimp3d")) runCase<impm::UniformGimp, 3>(steps, comm);
+  if (wanted("neohookean2d")) runCase<impm::LinearMpm, 2>(steps, comm, impm::MaterialModel::NeoHookean);
+  if (wanted("j2-2d")) runCase<impm::LinearMpm, 2>(steps, comm, impm::MaterialModel::J2Plasticity);
   return 0;
 }

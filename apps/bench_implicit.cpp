@@ -25,12 +25,14 @@
 
 #include "core/InputDeck.hpp"
 #include "solvers/Simulation.hpp"
+#include "core/FloatingPoint.hpp"
 
 #ifndef IMPM_SOURCE_DIR
 #define IMPM_SOURCE_DIR "."
 #endif
 
 int main(int argc, char** argv) {
+  impm::flushSubnormalsToZero();  // before Kokkos starts its threads, which inherit it
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
   int fullSteps = 1000;

@@ -33,6 +33,7 @@
 #include "core/PhaseTimer.hpp"
 #include "solvers/NewtonSolver.hpp"
 #include "solvers/Simulation.hpp"
+#include "core/FloatingPoint.hpp"
 
 namespace {
 void usage(std::ostream& os) {
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
+  impm::flushSubnormalsToZero();  // before Kokkos starts its threads, which inherit it
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
