@@ -46,6 +46,16 @@ struct ParticleStencil {
   KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
                                          const SizeView& halfSize, NoDomainDeformation, int p)
       : ParticleStencil(grid, position, halfSize, p) {}
+  // The same with the inverse cell sizes computed once for the kernel (StencilGrid).
+  template <class PositionView, class SizeView>
+  KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StencilGrid& grid, const PositionView& position,
+                                         const SizeView& halfSize, NoDomainDeformation, int p) {
+    const double* inv = grid.inverseSpacing;
+    build1d(position(p, 0), grid.x0, grid.hx, inv[0], halfSize(p, 0), grid.nx, first[0], count[0], w[0], g[0]);
+    build1d(position(p, 1), grid.y0, grid.hy, inv[1], halfSize(p, 1), grid.ny, first[1], count[1], w[1], g[1]);
+    if constexpr (Dim == 3)
+      build1d(position(p, 2), grid.z0, grid.hz, inv[2], halfSize(p, 2), grid.nz, first[2], count[2], w[2], g[2]);
+  }
   // From coordinates: (x, y) and half sizes (lx, ly) in 2D.
   KOKKOS_FORCEINLINE_FUNCTION
   ParticleStencil(const StructuredGrid& grid, double x, double y, double lx, double ly) {
@@ -116,8 +126,12 @@ struct ParticleStencil {
  private:
   KOKKOS_FORCEINLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,
                                              int& first, int& count, double* w, double* gr) {
+    build1d(x, origin, h, 1.0 / h, l, ncells, first, count, w, gr);
+  }
+  // invh = 1.0 / h.
+  KOKKOS_FORCEINLINE_FUNCTION static void build1d(double x, double origin, double h, double invh, double l, int ncells,
+                                             int& first, int& count, double* w, double* gr) {
     if constexpr (HasInteriorStencil<Shape>::value) {
-      const double invh = 1.0 / h;
       if (Shape::interiorStencil((x - origin) * invh, invh, ncells, first, w, gr)) {
         count = 2;
         return;

@@ -35,6 +35,19 @@ struct StructuredGrid {
   KOKKOS_INLINE_FUNCTION int cells(int d) const { return d == 0 ? nx : d == 1 ? ny : nz; }
 };
 
+// A grid with its inverse cell sizes, computed once per kernel launch: the particle stencils'
+// fast path (LinearMpm::interiorStencil) scales by 1/h, and a division per particle and
+// direction inside the particle loop sat on the critical path of every stencil (GCC does not
+// hoist it: the loop body is a separate function). 1.0 / h is the value the per-particle
+// division gave, so results are unchanged bit for bit.
+struct StencilGrid : StructuredGrid {
+  double inverseSpacing[3] = {1.0, 1.0, 1.0};
+  StencilGrid() = default;
+  explicit StencilGrid(const StructuredGrid& g) : StructuredGrid(g) {
+    for (int d = 0; d < 3; ++d) inverseSpacing[d] = 1.0 / spacing(d);
+  }
+};
+
 // The cell index along direction d of a point at coordinate x, clamped to the grid (0 along z in
 // 2D). A point on a cell line belongs to the cell above it (the 1e-9 absorbs rounding in
 // positions computed as origin + k h). Particle creation, migration and restart all use it.

@@ -50,11 +50,11 @@ struct MaterialLaw {
   enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Yield, Hardening, Count };
   Kokkos::View<double* [Count], Kokkos::LayoutRight, DeviceType> table;
 
-  KOKKOS_INLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
-  KOKKOS_INLINE_FUNCTION bool isLinearElastic(int m) const { return model(m) == (int)MaterialModel::LinearElastic; }
+  KOKKOS_FORCEINLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
+  KOKKOS_FORCEINLINE_FUNCTION bool isLinearElastic(int m) const { return model(m) == (int)MaterialModel::LinearElastic; }
   KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) != (int)MaterialModel::LinearElastic; }
   KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) == (int)MaterialModel::J2Plasticity; }
-  KOKKOS_INLINE_FUNCTION LinearElasticModel linearElastic(int m) const {
+  KOKKOS_FORCEINLINE_FUNCTION LinearElasticModel linearElastic(int m) const {  // inline: a 40-byte return
     return LinearElasticModel{table(m, C11), table(m, C12), table(m, C33), table(m, CZZ), table(m, InvDet)};
   }
   KOKKOS_INLINE_FUNCTION NeoHookeanModel neoHookean(int m) const { return NeoHookeanModel{table(m, Lambda), table(m, Mu)}; }

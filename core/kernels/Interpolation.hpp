@@ -66,10 +66,11 @@ void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto hs = pv.halfSize;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
+  const StencilGrid sg(g);
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         auto out = sv.access();
-        const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
+        const ParticleStencil<Shape, Dim> st(sg, x, hs, deformation, p);
         body(p, st, out);
       });
   GridView dest = grid;  // contribute() takes a non-const view
@@ -81,9 +82,10 @@ void gatherFromGrid(const char* label, const StructuredGrid& g, const ParticleSe
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto hs = pv.halfSize;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
+  const StencilGrid sg(g);
   Kokkos::parallel_for(
       label, gatherPolicy<ExecSpace>(ps.count), KOKKOS_LAMBDA(int p) {
-        const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
+        const ParticleStencil<Shape, Dim> st(sg, x, hs, deformation, p);
         body(p, st);
       });
 }

@@ -46,38 +46,43 @@ KOKKOS_FORCEINLINE_FUNCTION void updateParticleState(const FixedParticleViews<Di
                                                      const double (&G)[Dim][Dim],
                                                      bool updateVolume = true, const DomainConvection& domain = {}) {
   constexpr int ns = StressLayout<Dim>::count;
-  double Fn[Dim][Dim];
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j) {
+  // F <- (I + G) F column by column, each column stored as soon as it is computed (column j of
+  // the new F needs only column j of the old one). Copying a finished Fn array into the view
+  // instead read it back as vectors after scalar stores, a store-forwarding stall on every particle.
+  double before[Dim], Fn[Dim][Dim];
+  for (int d = 0; d < Dim; ++d) before[d] = ps.F(p, d, d);
+  for (int j = 0; j < Dim; ++j) {
+    double column[Dim];
+    for (int i = 0; i < Dim; ++i) {
       double f = ps.F(p, i, j);
       for (int k = 0; k < Dim; ++k) f += G[i][k] * ps.F(p, k, j);
-      Fn[i][j] = f;
+      column[i] = f;
     }
-  double s[ns];
-  for (int c = 0; c < ns; ++c) s[c] = ps.stress(p, c);
+    for (int i = 0; i < Dim; ++i) {
+      Fn[i][j] = column[i];
+      ps.F(p, i, j) = column[i];
+    }
+  }
+  if (updateVolume) ps.volume(p) = ps.volume0(p) * determinant<Dim>(Fn);
+  if (domain.on)
+    for (int d = 0; d < Dim; ++d) {
+      const double after = Fn[d][d];
+      if (before[d] > 0.0 && after > 0.0) {
+        const double l = ps.halfSize(p, d) * (after / before[d]);
+        ps.halfSize(p, d) = l < domain.maxHalf[d] ? l : domain.maxHalf[d];
+      }
+    }
   const int m = ps.material(p);
   if (law.isLinearElastic(m)) {
-    law.linearElastic(m).template stress<Dim>(s, G, s);
+    law.linearElastic(m).template updateStress<Dim>(ps.stress, p, G);
   } else {
     double Gc[Dim][Dim], Fc[Dim][Dim], sc[ns];
     for (int i = 0; i < Dim; ++i)
       for (int j = 0; j < Dim; ++j) { Gc[i][j] = G[i][j]; Fc[i][j] = Fn[i][j]; }
-    for (int c = 0; c < ns; ++c) sc[c] = s[c];
+    for (int c = 0; c < ns; ++c) sc[c] = ps.stress(p, c);
     generalStress<Dim>(ps, law, p, m, Gc, Fc, sc);
-    for (int c = 0; c < ns; ++c) s[c] = sc[c];
+    for (int c = 0; c < ns; ++c) ps.stress(p, c) = sc[c];
   }
-  for (int c = 0; c < ns; ++c) ps.stress(p, c) = s[c];
-  if (domain.on)
-    for (int d = 0; d < Dim; ++d) {
-      const double before = ps.F(p, d, d), after = Fn[d][d];
-      if (before > 0.0 && after > 0.0) {
-        const double l = ps.halfSize(p, d) * (after / before);
-        ps.halfSize(p, d) = l < domain.maxHalf[d] ? l : domain.maxHalf[d];
-      }
-    }
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j) ps.F(p, i, j) = Fn[i][j];
-  if (updateVolume) ps.volume(p) = ps.volume0(p) * determinant<Dim>(Fn);
 }
 
 // Every particle with G = scale * ps.gradient (explicit: grad v and dt; implicit: grad u and 1).
