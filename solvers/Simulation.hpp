@@ -37,6 +37,12 @@ class Simulation {
              const std::string& outputDirectoryOverride = "");
   ~Simulation();
 
+  // The after-step checks' figures (auditParticles).
+  struct ParticleAudit {
+    double divergence = 0.0;
+    int outOfReach = 0;
+  };
+
   // Integrates the deck's number of steps and writes the outputs. `log` gets the progress
   // line and the error report (rank 0).
   RunResult run(std::ostream& log);
@@ -70,11 +76,15 @@ class Simulation {
   // The cuts in a checkpoint, and back (at the rank count that wrote them).
   void saveRankGrid(NamedArrays& state) const;
   void restoreRankGrid(const NamedArrays& state);
+  // Over all ranks, in one pass over the particles: the largest |stress| / c11 of a particle (its
+  // strain; +inf when a particle's velocity or stress is not finite, or it is inverted) and the
+  // number of particles out of their rank's reach.
+  ParticleAudit auditParticles() const;
+  // Throws when particles left the grid or their rank's nodes (`total` over all ranks), and checks
+  // CPDI domains.
+  void reportParticlesOutOfReach(int total, double t) const;
   void checkParticlesInReach(double t) const;
   void checkCpdiDomainsInReach(double t) const;
-  // Over all ranks, the largest |stress| / c11 of a particle (its strain), +inf when a
-  // particle's velocity or stress is not finite. One reduction.
-  double divergenceMeasure() const;
   // Names the first particle (by global id) whose state is not finite or inverted, with its body.
   std::string describeBadParticle() const;
   // Above this the run has diverged: small-strain elasticity never reaches a strain of one.
