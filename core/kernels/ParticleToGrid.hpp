@@ -98,21 +98,28 @@ void particleToGridMassProduct(const StructuredGrid& g, const LocalNodeIndexer& 
       });
 }
 
-// Point forces carried by particles: force(k) * S_ip for particle index(k) (a few particles:
-// atomics, not a ScatterView over the whole grid).
+// Point forces carried by particles: force(k) * S_ip for particle index(k). Few particles carry
+// them, so one ordered loop adds them all: atomics from several threads added the forces of two
+// loaded particles that share a node in whichever order the threads came, and the last bits of
+// the load changed from run to run (at 2 threads a cantilever's two-particle tip load made Newton
+// converge in one run and fail in the next).
 template <class ExecSpace, class Shape, int Dim, class GridView, class IndexView, class ForceView>
 void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                           const IndexView& index, const ForceView& force, const GridView& grid, int forceCol) {
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto hs = pv.halfSize;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
+  const int count = index.extent(0);
+  if (count == 0) return;
   Kokkos::parallel_for(
-      "p2g_point_forces", Kokkos::RangePolicy<ExecSpace>(0, index.extent(0)), KOKKOS_LAMBDA(int k) {
-        const int p = index(k);
-        const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
-        st.forEachNode(ix, [&](int n, double w, const double*) {
-          for (int d = 0; d < Dim; ++d) Kokkos::atomic_add(&grid(n, forceCol + d), w * force(k, d));
-        });
+      "p2g_point_forces", Kokkos::RangePolicy<ExecSpace>(0, 1), KOKKOS_LAMBDA(int) {
+        for (int k = 0; k < count; ++k) {
+          const int p = index(k);
+          const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
+          st.forEachNode(ix, [&](int n, double w, const double*) {
+            for (int d = 0; d < Dim; ++d) grid(n, forceCol + d) += w * force(k, d);
+          });
+        }
       });
 }
 
