@@ -16,6 +16,8 @@
 //               build/apps/impm_bench_explicit --case mpm2d --steps 400   (one case: mpm2d, gimp2d,
 //                 mpm3d, gimp3d, neohookean2d, j2-2d)
 //               build/apps/impm_bench_explicit --child --kokkos-threads=2 --steps 200
+//               build/apps/impm_bench_explicit --case mpm2d --timers   (adds the time of each
+//                 phase: p2g, grid update, g2p, ...; Teuchos::TimeMonitor)
 #include <Tpetra_Core.hpp>
 
 #include <algorithm>
@@ -29,6 +31,7 @@
 
 #include "core/FloatingPoint.hpp"
 #include "core/InputDeck.hpp"
+#include "core/PhaseTimer.hpp"
 #include "solvers/ExplicitStepper.hpp"
 #include "physics/Body.hpp"
 
@@ -69,6 +72,7 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
   for (int n = 0; n < 5; ++n) stepper.step(n * dt, dt);  // warm-up (first-touch, allocations)
   Kokkos::fence();
   const long rss1 = residentKiB();
+  Teuchos::TimeMonitor::zeroOutTimers();  // the phase table counts the timed steps only
   const auto t0 = std::chrono::steady_clock::now();
   for (int n = 0; n < steps; ++n) stepper.step(n * dt, dt);
   Kokkos::fence();
@@ -78,13 +82,22 @@ void runCase(int steps, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
               "view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
               Shape::name, Dim, Materials::modelName(model).c_str(), (int)ExecutionSpace::concurrency(), ps.count, steps, sec, rate / 1e6,
               ParticleSet::bytesPerParticle(Dim), 1024.0 * (rss1 - rss0) / ps.count);
+  if (impm::PhaseTimer::enabled())
+    Teuchos::TimeMonitor::summarize(comm.ptr(), std::cout, false, true, false, Teuchos::Union, "impm:");
   std::fflush(stdout);
+}
+
+void printUsage() {
+  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d] [--steps N] "
+              "[--timers]\n"
+              "  runs each case at 1 and 2 OpenMP threads (one child process per thread count) and prints\n"
+              "  M particle-steps/s and bytes per particle; --timers adds the time of each phase.\n");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool child = false;
+  bool child = false, timers = false;
   int steps = 200;
   std::string only;
   const char* cases[] = {"mpm2d", "gimp2d", "mpm3d", "gimp3d", "neohookean2d", "j2-2d"};
@@ -92,6 +105,11 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--child")) child = true;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--case") && i + 1 < argc) only = argv[i + 1];
+    if (!std::strcmp(argv[i], "--timers")) timers = true;
+    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      printUsage();
+      return 0;
+    }
   }
   if (steps < 1) {
     std::fprintf(stderr, "impm_bench_explicit: --steps must be a positive integer\n");
@@ -111,12 +129,13 @@ int main(int argc, char** argv) {
     for (int threads : {1, 2}) {
       const std::string cmd = "OMP_PROC_BIND=false OMP_NUM_THREADS=" + std::to_string(threads) + " '" + argv[0] +
                               "' --child --steps " + std::to_string(steps) + (only.empty() ? "" : " --case " + only) +
-                              " --kokkos-threads=" + std::to_string(threads);
+                              (timers ? " --timers" : "") + " --kokkos-threads=" + std::to_string(threads);
       status |= std::system(cmd.c_str());
     }
     return status == 0 ? 0 : 1;
   }
   impm::flushSubnormalsToZero();
+  impm::PhaseTimer::enabled() = timers;
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
   const auto wanted = [&](const char* name) { return only.empty() || only == name; };

@@ -34,19 +34,15 @@ struct ParticleStencil {
   // particle views: position(p, d), halfSize(p, d).
   template <class PositionView, class SizeView>
   KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
-                                         const SizeView& halfSize, int p) {
-    // Written out per direction (not a loop over d) so that each direction's grid constants are
-    // plain members: the 2D kernels kept their speed this way.
-    build1d(position(p, 0), grid.x0, grid.hx, halfSize(p, 0), grid.nx, first[0], count[0], w[0], g[0]);
-    build1d(position(p, 1), grid.y0, grid.hy, halfSize(p, 1), grid.ny, first[1], count[1], w[1], g[1]);
-    if constexpr (Dim == 3)
-      build1d(position(p, 2), grid.z0, grid.hz, halfSize(p, 2), grid.nz, first[2], count[2], w[2], g[2]);
-  }
+                                         const SizeView& halfSize, int p)
+      : ParticleStencil(StencilGrid(grid), position, halfSize, NoDomainDeformation{}, p) {}
   template <class PositionView, class SizeView>
   KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
                                          const SizeView& halfSize, NoDomainDeformation, int p)
       : ParticleStencil(grid, position, halfSize, p) {}
-  // The same with the inverse cell sizes computed once for the kernel (StencilGrid).
+  // The same with the inverse cell sizes computed once for the kernel (StencilGrid). Written out
+  // per direction (not a loop over d) so that each direction's grid constants are plain members:
+  // the 2D kernels kept their speed this way.
   template <class PositionView, class SizeView>
   KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StencilGrid& grid, const PositionView& position,
                                          const SizeView& halfSize, NoDomainDeformation, int p) {

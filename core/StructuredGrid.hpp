@@ -42,7 +42,6 @@ struct StructuredGrid {
 // division gave, so results are unchanged bit for bit.
 struct StencilGrid : StructuredGrid {
   double inverseSpacing[3] = {1.0, 1.0, 1.0};
-  StencilGrid() = default;
   explicit StencilGrid(const StructuredGrid& g) : StructuredGrid(g) {
     for (int d = 0; d < 3; ++d) inverseSpacing[d] = 1.0 / spacing(d);
   }

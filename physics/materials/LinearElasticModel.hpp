@@ -13,53 +13,41 @@ namespace impm {
 struct LinearElasticModel {
   double c11, c12, c33, czz, invDet;
 
-  // s = s0 + D sym(G) in the stored layout (StressLayout<Dim>); G[i][j] = d(du_i)/dx_j. s may
-  // alias s0.
-  template <int Dim>
-  KOKKOS_FORCEINLINE_FUNCTION void stress(const double* s0, const double (&G)[Dim][Dim], double* s) const {
+  // The law, written once: s = s0 + D sym(G) in the stored layout (StressLayout<Dim>), with
+  // G[i][j] = d(du_i)/dx_j. in(k) reads component k of s0 and out(k, value) stores component k of
+  // s; every component is computed before any is stored, so the output may be the input.
+  template <int Dim, class In, class Out>
+  KOKKOS_FORCEINLINE_FUNCTION void apply(const In& in, const double (&G)[Dim][Dim], const Out& out) const {
     const double a = c11, b = c12, c = c33;
     if constexpr (Dim == 2) {
-      const double gamma = G[0][1] + G[1][0];  // engineering shear strain increment
-      const double gxx = G[0][0], gyy = G[1][1];
-      s[0] = s0[0] + a * gxx + b * gyy;
-      s[1] = s0[1] + b * gxx + a * gyy;
-      s[2] = s0[2] + c * gamma;
-      s[3] = s0[3] + czz * (gxx + gyy);
+      const double gxx = G[0][0], gyy = G[1][1], gamma = G[0][1] + G[1][0];  // gamma: engineering shear
+      const double sxx = in(0) + a * gxx + b * gyy, syy = in(1) + b * gxx + a * gyy;
+      const double sxy = in(2) + c * gamma, szz = in(3) + czz * (gxx + gyy);
+      out(0, sxx); out(1, syy); out(2, sxy); out(3, szz);
     } else {
       const double exx = G[0][0], eyy = G[1][1], ezz = G[2][2];
-      const double sxx = s0[0] + a * exx + b * (eyy + ezz);
-      const double syy = s0[1] + a * eyy + b * (exx + ezz);
-      const double szz = s0[3] + a * ezz + b * (exx + eyy);
-      s[2] = s0[2] + c * (G[0][1] + G[1][0]);  // xy
-      s[4] = s0[4] + c * (G[1][2] + G[2][1]);  // yz
-      s[5] = s0[5] + c * (G[0][2] + G[2][0]);  // xz
-      s[0] = sxx; s[1] = syy; s[3] = szz;
+      const double sxx = in(0) + a * exx + b * (eyy + ezz);
+      const double syy = in(1) + a * eyy + b * (exx + ezz);
+      const double szz = in(3) + a * ezz + b * (exx + eyy);
+      const double sxy = in(2) + c * (G[0][1] + G[1][0]);
+      const double syz = in(4) + c * (G[1][2] + G[2][1]);
+      const double sxz = in(5) + c * (G[0][2] + G[2][0]);
+      out(0, sxx); out(1, syy); out(2, sxy); out(3, szz); out(4, syz); out(5, sxz);
     }
   }
 
-  // The same on particle p's row of a stress view, in place (the explicit G2P's hot path). Each
-  // component is read and written as a scalar: a local copy of the row, written component by
-  // component and then read back as a vector by GCC's SLP code, stalled store forwarding for a
-  // fifth of the explicit G2P.
+  // On arrays (the implicit trial stresses, the tangent checks). s may alias s0.
+  template <int Dim>
+  KOKKOS_FORCEINLINE_FUNCTION void stress(const double* s0, const double (&G)[Dim][Dim], double* s) const {
+    apply<Dim>([s0](int k) { return s0[k]; }, G, [s](int k, double value) { s[k] = value; });
+  }
+
+  // On particle p's row of a stress view, in place (the explicit G2P's hot path): each component
+  // is read and written as a scalar. A local copy of the row, written component by component and
+  // read back as a vector by GCC's SLP code, stalled store forwarding for a fifth of the G2P.
   template <int Dim, class StressView>
   KOKKOS_FORCEINLINE_FUNCTION void updateStress(const StressView& stress, int p, const double (&G)[Dim][Dim]) const {
-    const double a = c11, b = c12, c = c33;
-    if constexpr (Dim == 2) {
-      const double gxx = G[0][0], gyy = G[1][1], gamma = G[0][1] + G[1][0];
-      const double sxx = stress(p, 0) + a * gxx + b * gyy, syy = stress(p, 1) + b * gxx + a * gyy;
-      const double sxy = stress(p, 2) + c * gamma, szz = stress(p, 3) + czz * (gxx + gyy);
-      stress(p, 0) = sxx; stress(p, 1) = syy; stress(p, 2) = sxy; stress(p, 3) = szz;
-    } else {
-      const double exx = G[0][0], eyy = G[1][1], ezz = G[2][2];
-      const double sxx = stress(p, 0) + a * exx + b * (eyy + ezz);
-      const double syy = stress(p, 1) + a * eyy + b * (exx + ezz);
-      const double szz = stress(p, 3) + a * ezz + b * (exx + eyy);
-      const double sxy = stress(p, 2) + c * (G[0][1] + G[1][0]);
-      const double syz = stress(p, 4) + c * (G[1][2] + G[2][1]);
-      const double sxz = stress(p, 5) + c * (G[0][2] + G[2][0]);
-      stress(p, 0) = sxx; stress(p, 1) = syy; stress(p, 2) = sxy; stress(p, 3) = szz; stress(p, 4) = syz;
-      stress(p, 5) = sxz;
-    }
+    apply<Dim>([&](int k) { return stress(p, k); }, G, [&](int k, double value) { stress(p, k) = value; });
   }
 
   // (1/2) sigma : eps with eps = D^-1 sigma (in 2D in the plane: the out-of-plane term vanishes
