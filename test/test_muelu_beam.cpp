@@ -17,6 +17,7 @@
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
+#include "solvers/ImplicitModelEvaluator.hpp"
 #include "solvers/MueLuPreconditioner.hpp"
 #include "solvers/NewtonSolver.hpp"
 #include "solvers/Simulation.hpp"
@@ -122,17 +123,22 @@ SmallSystem smallSystem(const std::vector<double>& shares) {
   return {P, coords};
 }
 
-// |M^-1 P x - x| / |x| for a random x, M being the MUELU preconditioner of `list` on `system`.
-double inverseError(const SmallSystem& system, const ParameterList& list) {
-  auto cache = impm::makeMueLuPreconditioner(list);
-  cache->setUnknownGeometry(system.coords, 2);
-  auto M = cache->update(system.P);
+// |M^-1 P x - x| / |x| for a random x, M being the preconditioner `cache` builds for `system`.
+double inverseError(const SmallSystem& system, impm::PreconditionerCache& cache) {
+  cache.setUnknownGeometry(system.coords, 2);
+  auto M = cache.update(system.P, -1);
   impm::Vector x(system.P->getDomainMap()), Px(system.P->getDomainMap()), y(system.P->getDomainMap());
   x.randomize();
   system.P->apply(x, Px);
   M->apply(Px, y);
   y.update(-1.0, x, 1.0);
   return y.norm2() / x.norm2();
+}
+
+// The same for the MUELU preconditioner of `list`.
+double inverseError(const SmallSystem& system, const ParameterList& list) {
+  auto cache = impm::makeMueLuPreconditioner(list);
+  return inverseError(system, *cache);
 }
 
 // A one-level "hierarchy" (the matrix below `coarse: max size`) is MueLu's coarse solve alone. On
@@ -197,6 +203,42 @@ TEUCHOS_UNIT_TEST(MueLuBeam, DefaultCoarseSolveOnSeveralRanksAlsoWithAnEmptyRank
     out << "|M^-1 P x - x| / |x| = " << error << (shares.back() == 0.0 ? " (last rank without rows)\n" : "\n");
     TEST_COMPARE(error, >=, 0.0);
     TEST_COMPARE(error, <, 1e-3);
+  }
+}
+
+// A deck's own AMESOS2 subdomain solve (SCHWARZ, as Ifpack2 preconditioner or as MueLu's coarse
+// solve) on a rank without rows: KLU2 throws there, on that rank alone, and the other ranks waited
+// for it in a collective for ever (a hang, not an error). That rank now takes RILUK, a local solve
+// on an empty block. With an overlap (8) that takes in the whole graph, each rank's LU is of the
+// whole P: the preconditioner must be P's exact inverse, empty rank or not.
+TEUCHOS_UNIT_TEST(MueLuBeam, AmesosSubdomainSolvesSurviveARankWithoutRows) {
+  const int ranks = Tpetra::getDefaultComm()->getSize();
+  if (ranks == 1) {
+    out << "one rank: no rank can be empty\n";
+    return;
+  }
+  std::vector<double> equal(ranks, 1.0 / ranks), lastEmpty(ranks, 1.0 / (ranks - 1));
+  lastEmpty.back() = 0.0;
+  for (const auto& shares : {equal, lastEmpty}) {
+    const SmallSystem system = smallSystem(shares);
+    const char* which = shares.back() == 0.0 ? " (last rank without rows)" : "";
+    ParameterList schwarz;
+    schwarz.set("schwarz: overlap level", 8).set("subdomain solver name", "AMESOS2");
+    impm::IfpackPreconditionerCache ifpack("SCHWARZ", schwarz);
+    double error = -1.0;
+    TEST_NOTHROW(error = inverseError(system, ifpack));
+    out << "Ifpack2 SCHWARZ/AMESOS2: |M^-1 P x - x| / |x| = " << error << which << "\n";
+    TEST_COMPARE(error, >=, 0.0);
+    TEST_COMPARE(error, <, 1e-10);
+    if (!impm::mueLuAvailable()) continue;
+    ParameterList list;
+    list.set("coarse: max size", 100000).set("coarse: type", "SCHWARZ");
+    list.sublist("coarse: params").set("schwarz: overlap level", 8).set("subdomain solver name", "AMESOS2");
+    error = -1.0;
+    TEST_NOTHROW(error = inverseError(system, list));
+    out << "MueLu coarse SCHWARZ/AMESOS2: |M^-1 P x - x| / |x| = " << error << which << "\n";
+    TEST_COMPARE(error, >=, 0.0);
+    TEST_COMPARE(error, <, 1e-10);
   }
 }
 
