@@ -38,6 +38,15 @@ IfpackPreconditionerCache::IfpackPreconditionerCache(const std::string& type,
   create(A);
 }
 
+bool avoidAmesosOnEmptyBlock(Teuchos::ParameterList& schwarz, bool rankIsEmpty) {
+  if (!rankIsEmpty || !schwarz.isType<std::string>("subdomain solver name") ||
+      schwarz.get<std::string>("subdomain solver name") != "AMESOS2")
+    return false;
+  schwarz.set("subdomain solver name", "RILUK");
+  schwarz.remove("subdomain solver parameters", false);
+  return true;
+}
+
 RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const CrsMatrix>& P) const {
   const std::string& type = type_;
   RCP<Ifpack2Preconditioner> prec;
@@ -55,17 +64,10 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   // Ifpack2's Amesos2 wrapper throws unless its options come in a sublist called "Amesos2": an
   // empty one means KLU2 with its defaults.
   if (type == "AMESOS2" && !copy.isSublist("Amesos2")) copy.sublist("Amesos2");
-  const bool amesosSubdomains = type == "SCHWARZ" && copy.isType<std::string>("subdomain solver name") &&
-                                copy.get<std::string>("subdomain solver name") == "AMESOS2";
-  if (amesosSubdomains && P->getNodeNumRows() == 0) {
-    // KLU2 throws on an empty block, on this rank only, and the other ranks would then wait for
-    // it for ever. The subdomain solve is local and, on an empty block, the same nothing whatever
-    // the solver: this rank takes RILUK.
-    copy.set("subdomain solver name", "RILUK");
-    copy.remove("subdomain solver parameters", false);
-  } else if (amesosSubdomains && !copy.sublist("subdomain solver parameters").isSublist("Amesos2")) {
+  if (type == "SCHWARZ" && !avoidAmesosOnEmptyBlock(copy, P->getNodeNumRows() == 0) &&
+      copy.isType<std::string>("subdomain solver name") && copy.get<std::string>("subdomain solver name") == "AMESOS2" &&
+      !copy.sublist("subdomain solver parameters").isSublist("Amesos2"))
     copy.sublist("subdomain solver parameters").sublist("Amesos2");
-  }
   try {
     prec->setParameters(copy);
   } catch (const std::exception& e) {

@@ -23,6 +23,13 @@ using RowMatrix = Tpetra::RowMatrix<Scalar, LO, GO, Node>;
 using TpetraOperator = Tpetra::Operator<Scalar, LO, GO, Node>;
 using Ifpack2Preconditioner = Ifpack2::Preconditioner<Scalar, LO, GO, Node>;
 
+// For an Ifpack2 SCHWARZ list (the Ifpack2 preconditioner's, or MueLu's "coarse: params") on a
+// rank that owns no rows: an AMESOS2 subdomain solve becomes RILUK. KLU2 throws on an empty block,
+// on that rank alone, and the other ranks would wait for it in a collective for ever; the subdomain
+// solve is local and, on an empty block, the same nothing whatever the solver. Returns whether it
+// changed the list.
+bool avoidAmesosOnEmptyBlock(Teuchos::ParameterList& schwarz, bool rankIsEmpty);
+
 // An approximate (or exact) inverse of P, kept up to date with the matrix it is handed. Collective.
 class PreconditionerCache {
  public:

@@ -369,22 +369,15 @@ class MueLuPreconditionerCache : public PreconditionerCache {
   // same GMRES counts), and, unlike Ifpack2's AMESOS2, it survives a rank without rows (KLU2's
   // numeric factorisation fails there: a cantilever split in y over 2 ranks).
   //
-  // A deck's own SCHWARZ coarse solve with an AMESOS2 subdomain solve: KLU2 throws on a rank whose
-  // block is empty, on that rank only, and the other ranks then wait for it in MueLu's set-up for
-  // ever. Such a rank (this rank owns no rows of P, so MueLu's uncoupled aggregation gives it no
-  // coarse rows either) gets an RILUK subdomain solve instead: the subdomain solve is local, and
-  // on an empty block every solve is the same nothing.
+  // A deck's own SCHWARZ coarse solve with an AMESOS2 subdomain solve goes through
+  // avoidAmesosOnEmptyBlock: a rank that owns no rows of P gets no coarse rows either from MueLu's
+  // uncoupled aggregation, and KLU2 would throw there.
   ParameterList coarseForRanks(int ranks, bool rankIsEmpty) const {
     if (ranks == 1) return params_;
     const std::string type = params_.get<std::string>("coarse: type");
     if (type == "SCHWARZ" && rankIsEmpty && params_.isSublist("coarse: params")) {
       ParameterList list(params_);
-      ParameterList& coarse = list.sublist("coarse: params");
-      if (coarse.isType<std::string>("subdomain solver name") &&
-          coarse.get<std::string>("subdomain solver name") == "AMESOS2") {
-        coarse.set("subdomain solver name", "RILUK");
-        coarse.remove("subdomain solver parameters", false);
-      }
+      avoidAmesosOnEmptyBlock(list.sublist("coarse: params"), true);
       return list;
     }
     const bool direct = type == "KLU2" || type == "KLU" || type == "Klu" || type == "Klu2";
