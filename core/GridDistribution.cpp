@@ -60,16 +60,28 @@ bool GridDistribution::ownsPoint(const double* x) const {
 
 GridFields::GridFields(const GridDistribution& dist, int accumCount, int kinCount) : importer(dist.importer()) {
   accumOwned = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), accumCount));
-  accumGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), accumCount));
   kinOwned = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), kinCount));
-  kinGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), kinCount));
+  if (dist.comm()->getSize() == 1) {  // one rank: the ghosted map is the owned map (same gids, same order)
+    accumGhosted = accumOwned;
+    kinGhosted = kinOwned;
+  } else {
+    accumGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), accumCount));
+    kinGhosted = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), kinCount));
+  }
 }
 
 void GridFields::exportAccumulated() {
+  if (ghostedIsOwned()) return;  // the sums are already the owned ones
   accumOwned->putScalar(0.0);
   accumOwned->doExport(*accumGhosted, *importer, Tpetra::ADD);
 }
 
-void GridFields::importKinematics() { kinGhosted->doImport(*kinOwned, *importer, Tpetra::INSERT); }
+void GridFields::importKinematics() {
+  if (!ghostedIsOwned()) kinGhosted->doImport(*kinOwned, *importer, Tpetra::INSERT);
+}
+
+void GridFields::importAccumulated() {
+  if (!ghostedIsOwned()) accumGhosted->doImport(*accumOwned, *importer, Tpetra::INSERT);
+}
 
 }  // namespace impm

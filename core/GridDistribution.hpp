@@ -66,7 +66,10 @@ struct KinColumns {  // grid kinematics after the grid update
 };
 
 // The grid multivectors of one integrator: particle-to-grid sums and kinematics, each as an
-// owned and a ghosted copy.
+// owned and a ghosted copy. On one MPI rank the ghosted map is the owned map, and each ghosted
+// multivector is the owned one itself: the Import and Export between them would be copies of
+// the whole grid per step, done by Tpetra on the master thread, which handed every grid line
+// to the other thread through the caches (see exportAccumulated).
 struct GridFields {
   GridFields(const GridDistribution& dist, int accumCount, int kinCount);
   Teuchos::RCP<MultiVector> accumOwned, accumGhosted;
@@ -77,6 +80,10 @@ struct GridFields {
   void exportAccumulated();
   // Broadcast owned kinematics to the ghosted copy.
   void importKinematics();
+  // Broadcast the owned sums to the ghosted copy.
+  void importAccumulated();
+  // True when the ghosted multivectors are the owned ones (one rank).
+  bool ghostedIsOwned() const { return accumGhosted == accumOwned; }
 };
 
 }  // namespace impm

@@ -25,16 +25,16 @@ std::string ExplicitStepper<Shape, Dim>::name() const {
 template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::particleToGridMomentum() {
   PhaseTimer phase("p2g");
-  fields_.accumGhosted->putScalar(0.0);
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
+  zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
   particleToGridMassMomentum<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass, A::MomX);
 }
 
 template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::particleToGridForces(double t, bool withMomentum) {
   PhaseTimer phase("p2g");
-  if (withMomentum) fields_.accumGhosted->putScalar(0.0);
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
+  if (withMomentum) zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
   if (withMomentum)
     particleToGridMomentumAndForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass,
                                                 A::MomX, A::FintX);
@@ -138,7 +138,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
           });
       bc_.template apply<Exec>(acc, A::MomX);
     }
-    fields_.accumGhosted->doImport(*fields_.accumOwned, *dist_.importer(), Tpetra::INSERT);
+    fields_.importAccumulated();
     stressFromGhostedVelocity(dt, true);
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
     interpolateToParticles<Exec, Shape, Dim>(g, gix, ps_, kinv, K::VelX, ps_.x, dt, true);
