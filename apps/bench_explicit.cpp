@@ -12,7 +12,8 @@
 // is large (runs of one binary spread by 20-40% on a shared host): each case is timed --repeat
 // times (default 3) after one warm-up, and the best, median and worst rates are printed; compare
 // binaries by the best of several interleaved runs. The parent prints the 2-thread speed-up of
-// each case from its children's best rates.
+// each case from its children's best rates, and the parent measures the host's core-to-core
+// latency before and after the runs (see coreToCoreRoundTripNs): the 2-thread rates depend on it.
 //
 // Sample run:   build/apps/impm_bench_explicit            (spawns itself once per thread count)
 //               build/apps/impm_bench_explicit --case mpm2d --steps 400   (one case: mpm2d, gimp2d,
@@ -23,7 +24,11 @@
 //               build/apps/impm_bench_explicit --case mpm2d --repeat 5
 #include <Tpetra_Core.hpp>
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <iterator>
 #include <cstdio>
@@ -32,6 +37,7 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/FloatingPoint.hpp"
@@ -99,6 +105,58 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
   std::fflush(stdout);
 }
 
+// The round trip of a cache line between the first two CPUs this process may run on, in ns
+// (best of 5 x 100,000 ping-pongs through one atomic), or -1 with fewer than two CPUs. On a
+// shared host it tells the host's state apart: about 100 ns when the two vCPUs share a last-level
+// cache, 400-500 ns when they sit on different core complexes, where every grid line one thread
+// writes and the other reads costs a cross-complex transfer.
+double coreToCoreRoundTripNs() {
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof allowed, &allowed) != 0) return -1.0;
+  int cpus[2], found = 0;
+  for (int c = 0; c < CPU_SETSIZE && found < 2; ++c)
+    if (CPU_ISSET(c, &allowed)) cpus[found++] = c;
+  if (found < 2) return -1.0;
+  const auto pin = [](int cpu) {
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    pthread_setaffinity_np(pthread_self(), sizeof one, &one);
+  };
+  constexpr int kTrips = 100000;
+  double best = 1e30;
+  for (int round = 0; round < 5; ++round) {
+    alignas(128) std::atomic<int> ball{0};
+    std::thread partner([&] {
+      pin(cpus[1]);
+      for (int i = 0; i < kTrips; ++i) {
+        while (ball.load(std::memory_order_acquire) != 2 * i + 1) {
+        }
+        ball.store(2 * i + 2, std::memory_order_release);
+      }
+    });
+    pin(cpus[0]);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < kTrips; ++i) {
+      ball.store(2 * i + 1, std::memory_order_release);
+      while (ball.load(std::memory_order_acquire) != 2 * i + 2) {
+      }
+    }
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    partner.join();
+  }
+  sched_setaffinity(0, sizeof allowed, &allowed);  // the children inherit the parent's mask
+  return best / kTrips * 1e9;
+}
+
+void printHostState(const char* when) {
+  const double ns = coreToCoreRoundTripNs();
+  if (ns < 0) return;
+  std::printf("host %s: core-to-core round trip %.0f ns (%s)\n", when, ns,
+              ns < 250 ? "the two cores share a cache" : "the two cores do not share a cache");
+  std::fflush(stdout);
+}
+
 void printUsage() {
   std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d] [--steps N] "
               "[--repeat N] [--timers]\n"
@@ -143,6 +201,7 @@ int main(int argc, char** argv) {
     std::printf("impm explicit-step benchmark (USL, FLIP; 2D: bar of 1000 x 5 cells, 5 x 5 particles per cell; "
                 "3D: 40 x 5 x 5 cells, 5 x 5 x 5 per cell; 125,000 particles each)\n");
     std::fflush(stdout);
+    printHostState("before");
     // The children run as MPI singletons; ess_singleton_isolated keeps Open MPI from starting an
     // orted daemon beside each of them (it polled the PCI configuration on the timed cores).
     int status = 0;
@@ -172,6 +231,7 @@ int main(int argc, char** argv) {
       }
       status |= pclose(child);
     }
+    printHostState("after");
     for (const auto& label : order)
       if (bestRate[1].count(label) && bestRate[0][label] > 0.0)
         std::printf("speed-up  %s  2 threads / 1 thread = %.2f  (best rates %.2f / %.2f M particle-steps/s)\n",
