@@ -3,12 +3,14 @@
 #pragma once
 
 #include <Teuchos_ParameterList.hpp>
+#include <Teuchos_TestForException.hpp>
 #include <Tpetra_Core.hpp>
 
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,15 @@ inline History readHistory(const std::string& path) {
     for (size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k) h[names[k]].push_back(std::stod(cell));
   }
   return h;
+}
+
+// Runs `sim` and requires it to complete: a run that stops early (diverged, Newton failure, ...)
+// throws, with `what` and the run's status in the message. Returns the run's result.
+inline impm::RunResult runToCompletion(impm::Simulation& sim, const std::string& what) {
+  std::ostringstream log;
+  const impm::RunResult r = sim.run(log);
+  TEUCHOS_TEST_FOR_EXCEPTION(r.status != "completed", std::runtime_error, what + " run: " + r.status);
+  return r;
 }
 
 // Validates and runs `deck` on the default communicator; returns its history.csv.

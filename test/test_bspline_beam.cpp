@@ -36,9 +36,7 @@ double beamError(const std::string& placement, Teuchos::FancyOStream& out, const
                                  exact.get<std::string>("Modulus") != "Plane Condition",
                              std::runtime_error, "the beam deck no longer compares with the Newmark-advanced Timoshenko beam");
   impm::Simulation sim(*deck, Tpetra::getDefaultComm());
-  std::ostringstream log;
-  const impm::RunResult r = sim.run(log);
-  TEUCHOS_TEST_FOR_EXCEPTION(r.status != "completed", std::runtime_error, "beam run: " + r.status);
+  const impm::RunResult r = impm_test::runToCompletion(sim, "beam");
   const double error = impm_test::summaryValue(dir, "w_mid");
   out << (order.empty() ? "quadratic" : "cubic") << " B-spline beam, " << placement << " placement: w(L/2, t) relative L2 error " << error << "\n";
   return error;

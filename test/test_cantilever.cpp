@@ -113,9 +113,7 @@ TipErrors runCantilever(int cellsThrough, int steps, const std::string& shape, i
   deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
   const std::string dir = "test_output/cantilever_" + shape + "_" + std::to_string(cellsThrough);
   impm::Simulation sim(*deck, Tpetra::getDefaultComm(), dir);
-  std::ostringstream log;
-  const impm::RunResult r = sim.run(log);
-  TEUCHOS_TEST_FOR_EXCEPTION(r.status != "completed", std::runtime_error, "cantilever run: " + r.status);
+  const impm::RunResult r = impm_test::runToCompletion(sim, "cantilever");
   const auto hist = impm_test::readHistory(dir + "/history.csv");
   const double ux = hist.at("tip displacement x").back(), uxe = hist.at("tip displacement x_exact").back();
   const double uy = hist.at("tip displacement y").back(), uye = hist.at("tip displacement y_exact").back();

@@ -56,9 +56,7 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   const std::string dir = "test_output/column_" + shape + "_" + model.substr(0, 3) + "_" + std::to_string(cellsY) + (adjust ? "_adjusted" : "");
   if (outputDir) *outputDir = dir;
   impm::Simulation sim(*deck, comm, dir);
-  std::ostringstream log;
-  const impm::RunResult r = sim.run(log);
-  TEUCHOS_TEST_FOR_EXCEPTION(r.status != "completed", std::runtime_error, "column run: " + r.status);
+  const impm::RunResult r = impm_test::runToCompletion(sim, "column");
 
   const auto& mat = sim.materials().parameters(0);
   impm::SelfWeightColumnExact exact;

@@ -52,9 +52,7 @@ MmsRun runMms(const std::string& shape, int cells, const std::string& integrator
   impm::validateDeck(*deck);
   const std::string dir = "test_output/mms_" + integrator + "_" + shape + "_" + std::to_string(dim) + "d_" + std::to_string(cells);
   impm::Simulation sim(*deck, Tpetra::getDefaultComm(), dir);
-  std::ostringstream log;
-  const impm::RunResult r = sim.run(log);
-  TEUCHOS_TEST_FOR_EXCEPTION(r.status != "completed", std::runtime_error, "manufactured-solution run: " + r.status);
+  const impm::RunResult r = impm_test::runToCompletion(sim, "manufactured-solution");
   MmsRun m;
   m.peakRms = r.fieldErrorRmsPeak;
   m.newtonMean = impm_test::summaryValue(dir, "Newton Iterations Mean");

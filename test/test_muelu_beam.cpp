@@ -43,9 +43,7 @@ BeamRun runBeam(int nx, const std::string& preconditioner, int steps, Teuchos::F
   deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
   const std::string dir = "test_output/muelu_beam_" + preconditioner + "_" + std::to_string(nx);
   impm::Simulation sim(*deck, Tpetra::getDefaultComm(), dir);
-  std::ostringstream log;
-  const impm::RunResult r = sim.run(log);
-  TEUCHOS_TEST_FOR_EXCEPTION(r.status != "completed", std::runtime_error, "beam run: " + r.status);
+  const impm::RunResult r = impm_test::runToCompletion(sim, "beam");
   const auto hist = impm_test::readHistory(dir + "/history.csv");
   const auto& w = hist.at("w_mid");
   BeamRun b{impm_test::summaryValue(dir, "Newton Iterations Mean"),
