@@ -3,7 +3,7 @@
 
 Runs the deck (outputs off) once per configuration and reads each run's summary.yaml:
 particle-steps per second, wall time per step, parallel efficiency against the first
-configuration, peak resident memory per particle (GNU time, the largest rank), and the rank grid
+configuration, peak resident memory per particle (summary.yaml, summed over the ranks), and the rank grid
 with its worst load imbalance (max / mean particles per rank, summary.yaml Decomposition). Writes a
 markdown table and a PNG into --out.
 
@@ -17,7 +17,6 @@ Sample runs (a quiet machine; threads x ranks <= cores, or the figures measure c
 """
 import argparse
 import os
-import re
 import subprocess
 import sys
 import tempfile
@@ -58,7 +57,7 @@ def run(impm, deck, ranks, threads, workdir, tag):
     with open(path, "w") as f:
         f.write(decks.dump(deck))
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_PROC_BIND="false")
-    cmd = ["/usr/bin/time", "-f", "maxrss_kib=%M", impm, path]
+    cmd = [impm, path]
     if ranks > 1:
         cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "-np", str(ranks),
                "-x", "OMP_NUM_THREADS", "-x", "OMP_PROC_BIND"] + cmd
@@ -67,11 +66,10 @@ def run(impm, deck, ranks, threads, workdir, tag):
         raise SystemExit(f"{tag}: impm exited {r.returncode}:\n{r.stderr[-2000:]}")
     with open(os.path.join(out, "summary.yaml")) as f:
         s = yaml.safe_load(f)["summary"]
-    rss = max([int(v) for v in re.findall(r"maxrss_kib=(\d+)", r.stderr)] or [0])
     decomposition = s.get("Decomposition", {})
     return {"ranks": ranks, "threads": threads, "particles": int(s["Particles"]), "steps": int(s["Steps"]),
             "wall": float(s["Wall Time"]), "rate": float(s["Particle Steps Per Second"]),
-            "bytes_per_particle": 1024.0 * rss * ranks / max(1, int(s["Particles"])),
+            "bytes_per_particle": float(s["Peak Resident Bytes Total"]) / max(1, int(s["Particles"])),
             "rank_grid": str(decomposition.get("Rank Grid", "1 x 1")),
             "imbalance": float(decomposition.get("Load Imbalance Max", 1.0))}
 
@@ -119,8 +117,8 @@ def main():
     kind = "weak" if args.weak else "strong"
     lines = [f"# {kind.capitalize()} scaling of `{os.path.relpath(args.deck, REPO)}`", "",
              f"`{' '.join(sys.argv)}`; fastest of {args.repeat} runs per configuration. Efficiency against the first "
-             f"row: strong = speed-up / (workers ratio), weak = rate per worker ratio. Memory: peak resident set of "
-             f"the largest rank x ranks / particles (with each process's Trilinos/MPI baseline of about 60 MB, "
+             f"row: strong = speed-up / (workers ratio), weak = rate per worker ratio. Memory: the ranks' peak resident "
+             f"sets summed, over the particles (with each process's Trilinos/MPI baseline of about 60 MB, "
              f"so it falls as the problem grows).", "",
              "| ranks (grid) | threads | particles | M particle-steps/s | ms per step | speed-up | efficiency | bytes/particle "
              "| imbalance |",

@@ -43,6 +43,9 @@ struct RunResult {
   int migrations = 0, rebalances = 0;
   long long migratedParticles = 0;
   double loadImbalance = 1.0, loadImbalanceMax = 1.0;
+  // Peak resident memory of the process (getrusage), the largest rank's and the sum over ranks,
+  // in bytes; set when the summary is written.
+  double peakResidentBytesMax = 0, peakResidentBytesTotal = 0;
   std::map<std::string, double> relativeL2;  // monitor name -> relative L2 error over the history
   std::vector<double> time;                  // the recorded history
   std::map<std::string, std::vector<double>> computed, exact;

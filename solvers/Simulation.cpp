@@ -4,6 +4,7 @@
 #include "solvers/Simulation.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -294,7 +295,12 @@ RunResult Simulation::run(std::ostream& log) {
     Kokkos::fence();
     return writeVtkOf(good, goodTime);
   };
-  auto writeSummaryOnRoot = [&](const RunResult& result) {
+  auto writeSummaryOnRoot = [&](RunResult& result) {  // collective
+    struct rusage usage;
+    getrusage(RUSAGE_SELF, &usage);
+    const double bytes = 1024.0 * double(usage.ru_maxrss);  // ru_maxrss is in KiB on Linux
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, bytes, Teuchos::outArg(result.peakResidentBytesMax));
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, bytes, Teuchos::outArg(result.peakResidentBytesTotal));
     rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
   };
 

@@ -42,6 +42,8 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Execution Space", std::string(ExecutionSpace::name()));
   s.set("Wall Time", r.wallSeconds);
   s.set("Particle Steps Per Second", r.particleStepsPerSecond);
+  s.set("Peak Resident Bytes Per Rank Max", r.peakResidentBytesMax);
+  s.set("Peak Resident Bytes Total", r.peakResidentBytesTotal);
   s.set("Status", r.status);
   if (r.divergedStep >= 0) {
     ParameterList& d = s.sublist("Divergence");

@@ -20,6 +20,8 @@
 #include "core/kernels/Energy.hpp"
 #include "solvers/Simulation.hpp"
 
+#include "RunHistory.hpp"
+
 namespace {
 
 using impm::DeckError;
@@ -304,6 +306,23 @@ TEUCHOS_UNIT_TEST(Bodies, BodyForceOnOneBody) {
   const double t = 10 * 1e-5;
   TEST_FLOATING_EQUALITY(gp[0], -9.81 * gm * t, 1e-10);
   TEST_COMPARE(std::abs(gp[1]), <, 1e-12 * std::abs(gp[0]));
+}
+
+// summary.yaml's peak memory: the largest rank's and the sum over ranks (each rank holds Kokkos,
+// Trilinos and MPI, well over a megabyte, so with more ranks the sum must exceed the largest).
+TEUCHOS_UNIT_TEST(Bodies, SummaryReportsPeakMemoryOfEveryRank) {
+  auto comm = Tpetra::getDefaultComm();
+  ParameterList d = shapesDeck("test_output/bodies_memory");
+  impm::validateDeck(d);
+  impm::Simulation sim(d, comm);
+  const impm::RunResult r = impm_test::runToCompletion(sim, "bodies");
+  out << "peak resident bytes: largest rank " << r.peakResidentBytesMax << ", total " << r.peakResidentBytesTotal
+      << " over " << comm->getSize() << " rank(s)\n";
+  TEST_COMPARE(r.peakResidentBytesMax, >, 1e6);
+  TEST_COMPARE(r.peakResidentBytesTotal, >=, r.peakResidentBytesMax + (comm->getSize() - 1) * 1e6);
+  TEST_COMPARE(r.peakResidentBytesTotal, <=, comm->getSize() * r.peakResidentBytesMax);
+  TEST_FLOATING_EQUALITY(impm_test::summaryValue(sim.outputDirectory(), "Peak Resident Bytes Total"),
+                         r.peakResidentBytesTotal, 1e-12);
 }
 
 // A Box constraint fixes every node in the box: a plate whose left column of nodes is held
