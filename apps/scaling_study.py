@@ -118,7 +118,7 @@ def main():
     lines = [f"# {kind.capitalize()} scaling of `{os.path.relpath(args.deck, REPO)}`", "",
              f"`{' '.join(sys.argv)}`; fastest of {args.repeat} runs per configuration. Efficiency against the first "
              f"row: strong = speed-up / (workers ratio), weak = rate per worker ratio. Memory: the ranks' peak resident "
-             f"sets summed, over the particles (with each process's Trilinos/MPI baseline of about 60 MB, "
+             f"sets summed, over the particles (with each process's Kokkos/Trilinos/MPI baseline of 50-60 MB, "
              f"so it falls as the problem grows).", "",
              "| ranks (grid) | threads | particles | M particle-steps/s | ms per step | speed-up | efficiency | bytes/particle "
              "| imbalance |",

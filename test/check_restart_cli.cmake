@@ -1,4 +1,4 @@
-# `impm DECK --restart DIR` on bad checkpoints: a truncated rank file, a checkpoint of another
+# `impm DECK --restart DIR` on bad checkpoints: a truncated rank file, a truncated header.xml, a checkpoint of another
 # deck, one whose header names another impm version, a directory that is no checkpoint, one of a
 # step beyond the deck's Number of Steps, one without the energy columns the restart asks for
 # (and a negative Checkpoint Interval in the deck). Each must exit 2 with one line of impm's on
@@ -29,13 +29,18 @@ file(READ "${WORK}/out/checkpoint/rank_00000.bin" rank0 HEX)
 
 # Variants of the checkpoint, each in its own directory.
 get_filename_component(real "${WORK}/out/checkpoint" REALPATH)
-foreach(variant truncated version)
+foreach(variant truncated truncated_header version)
   file(COPY "${real}/" DESTINATION "${WORK}/${variant}")
 endforeach()
 execute_process(COMMAND truncate -s -100 "${WORK}/truncated/rank_00000.bin" RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "truncate failed")
 endif()
+# A header cut off in the middle of its XML (a crash while a copy was made by hand).
+string(LENGTH "${header}" header_length)
+math(EXPR half "${header_length} / 2")
+string(SUBSTRING "${header}" 0 ${half} half_header)
+file(WRITE "${WORK}/truncated_header/header.xml" "${half_header}")
 string(REGEX REPLACE "(name=\"impm Version\"[^>]*value=\")[^\"]*\"" "\\1 0.0 (another impm)\"" other_version "${header}")
 if(other_version STREQUAL header)
   message(FATAL_ERROR "the test could not change the header's impm Version")
@@ -82,6 +87,7 @@ endfunction()
 
 expect_refused(truncated "${WORK}/bar.yaml" "${WORK}/truncated" 1 "rank_00000.bin is truncated")
 expect_refused(truncated_np2 "${WORK}/bar.yaml" "${WORK}/truncated" 2 "rank_00000.bin is truncated")
+expect_refused(truncated_header "${WORK}/bar.yaml" "${WORK}/truncated_header" 1 "header.xml cannot be read")
 expect_refused(other_deck "${WORK}/other.yaml" "${WORK}/out/checkpoint" 1 "Young Modulus' is")
 expect_refused(other_version "${WORK}/bar.yaml" "${WORK}/version" 1 "impm version ' 0.0 (another impm)'")
 expect_refused(not_a_checkpoint "${WORK}/bar.yaml" "${WORK}/empty" 1 "no header.xml")

@@ -145,7 +145,9 @@ TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitGimpStandingWaveEagerMigration)
 }
 
 // A cube flies along the diagonal of a 3D grid through the centre, where the rank blocks meet,
-// into a resting one: corner, edge and face neighbours all exchange particles.
+// into a resting one. impm's own rank grid ({0, 0, 0}) is x slabs at np 2 and 3 and 2 x 2 x 1
+// blocks at np 4, where the cube crosses the edge x = y = 0.5 diagonally (particles go to the
+// neighbour across both cuts); {1, 1, np} is z slabs.
 TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitGimp3dBoxes) {
   ParameterList deck("impm");
   ParameterList& p = deck.sublist("Problem");
