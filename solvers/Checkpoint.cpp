@@ -3,6 +3,7 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cstdint>
@@ -122,6 +123,15 @@ struct RankFile {
   std::vector<double> rows;  // count x width
   NamedArrays arrays;
 };
+
+// Flushes a file or a directory (its entries: a new name, a rename) to the disk, so that a power
+// loss after the checkpoint's rename cannot leave a renamed directory with an empty header.
+void syncToDisk(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  const bool synced = fd >= 0 && ::fsync(fd) == 0;
+  if (fd >= 0) ::close(fd);
+  if (!synced) throw std::runtime_error("cannot flush the checkpoint's '" + path + "' to disk");
+}
 
 long long writeRankFile(const std::string& path, const CheckpointContent& c, int rank, int ranks) {
   auto rows = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), c.particles);
@@ -247,6 +257,8 @@ void writeCheckpoint(const std::string& outputDir, const ParameterList& deck, co
     for (int r = 0; r < ranks; ++r) files.set(rankFileName(r), std::to_string(sizes[r]));
     header.sublist("Deck").setParameters(checkpointedDeck(deck));
     Teuchos::writeParameterListToXmlFile(header, tmpDir + "/header.xml");
+    syncToDisk(tmpDir + "/header.xml");
+    syncToDisk(tmpDir);  // the rank files' and the header's names
     // Complete: make it the checkpoint. The link is replaced by rename (atomic), and only then
     // are the older checkpoints removed.
     if (fs::exists(finalDir)) fs::remove_all(finalDir);
@@ -255,6 +267,7 @@ void writeCheckpoint(const std::string& outputDir, const ParameterList& deck, co
     fs::remove(newLink);
     fs::create_directory_symlink(stem, newLink);
     fs::rename(newLink, link);
+    syncToDisk(outputDir);  // both renames
     for (const auto& entry : fs::directory_iterator(outputDir)) {
       const std::string name = entry.path().filename().string();
       if (name.rfind("checkpoint_", 0) == 0 && name != stem) fs::remove_all(entry.path());
