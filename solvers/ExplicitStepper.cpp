@@ -34,12 +34,13 @@ template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::particleToGridForces(double t, bool withMomentum) {
   PhaseTimer phase("p2g");
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
-  if (withMomentum) zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
-  if (withMomentum)
+  if (withMomentum) {
+    zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
     particleToGridMomentumAndForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass,
                                                 A::MomX, A::FintX);
-  else
+  } else {
     accumulateInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, A::FintX);
+  }
   loads_.template scatterParticleForces<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::FextX, t);
 }
 
