@@ -34,10 +34,17 @@ struct RunResult {
   long long particles = 0;
   int steps = 0;
   double particleStepsPerSecond = 0;
-  std::string status = "completed";  // or "diverged", or "stopped: <why>"
-  int divergedStep = -1;              // when diverged: the first bad step, its time and why
-  double divergedTime = 0;
-  std::string divergence;
+  // "completed", or why the run stopped early: "diverged", "newton failed", "left the grid".
+  std::string status = "completed";
+  // A run that stopped early (Simulation::run's failure contract): the step that failed, its
+  // time and why, and the last good state: its step, time and VTU file (stem, in the output
+  // directory). history.csv ends at the last good step's row.
+  int failedStep = -1;
+  double failedTime = 0;
+  std::string failureReason;
+  int lastGoodStep = -1;
+  double lastGoodTime = 0;
+  std::string lastGoodFile;
   // Particle migration between MPI ranks since this run (or restart) began, and the load
   // imbalance: the largest rank's particle count over the mean, at the end and at its worst.
   int migrations = 0, rebalances = 0;

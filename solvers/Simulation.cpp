@@ -134,8 +134,9 @@ void Simulation::checkParticlesInReach(double t) const { reportParticlesOutOfRea
 
 void Simulation::reportParticlesOutOfReach(int total, double t) const {
   if (total > 0)
-    throw std::runtime_error(std::to_string(total) + " particle(s) left the grid or the nodes their MPI rank maps at t = " +
-                             formatNumber(t) + " s (use a larger grid)");
+    throw ParticlesOutOfReach(std::to_string(total) + " particle(s) left the grid or the nodes their MPI rank maps at t = " +
+                                  formatNumber(t) + " s",
+                              "use a larger grid");
   if (shape_ == "CPDI") checkCpdiDomainsInReach(t);
 }
 
@@ -150,12 +151,12 @@ void Simulation::checkCpdiDomainsInReach(double t) const {
   const long long mine = r.firstId >= 0 ? r.firstId : std::numeric_limits<long long>::max();
   long long first = 0;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, mine, Teuchos::outArg(first));
-  throw std::runtime_error(
+  throw ParticlesOutOfReach(
       "at t = " + formatNumber(t) + " s the CPDI domain of particle " + std::to_string(first) + " (global id) " +
-      (total[0] > 0 ? "spans more than 3 cells in a direction (its corners x_p +- F l0 e_i need more than 4 nodes; " +
-                          std::to_string(total[0]) + " particle(s)); use more particles per cell or a coarser grid"
-                    : "reaches beyond the node columns its MPI rank maps (" + std::to_string(total[1]) +
-                          " particle(s)); use fewer MPI ranks"));
+          (total[0] > 0 ? "spans more than 3 cells in a direction (its corners x_p +- F l0 e_i need more than 4 nodes; " +
+                              std::to_string(total[0]) + " particle(s))"
+                        : "reaches beyond the node columns its MPI rank maps (" + std::to_string(total[1]) + " particle(s))"),
+      total[0] > 0 ? "use more particles per cell or a coarser grid" : "use fewer MPI ranks");
 }
 
 std::string Simulation::describeBadParticle() const {
@@ -226,7 +227,7 @@ RunResult Simulation::run(std::ostream& log) {
   namespace fs = std::filesystem;
   const int rank = comm_->getRank();
   const ParameterList& out = deck_.sublist("Output");
-  const int historyInterval = std::max(1, out.get<int>("History Interval"));
+  const int historyInterval = out.get<int>("History Interval");  // >= 1, checked by the builder
   const int vtkInterval = out.get<int>("VTK Interval");
   const bool progress = out.get<bool>("Progress");
   const int checkpointInterval = out.get<int>("Checkpoint Interval");
@@ -336,9 +337,48 @@ RunResult Simulation::run(std::ostream& log) {
     writeVtk(0.0);
   }
   keepState(firstStep * dt_, firstStep);
-  const bool tty = isatty(fileno(stderr));
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
+  int lastRecordedStep = firstStep;  // the step of history.csv's last row
+
+  // Every run that stops early ends alike (README, "Exit status"): history.csv up to the last
+  // good step's row, the last good particles as VTU, summary.yaml with the Status and the
+  // Failure, and one message (exit 1). `stepNotTaken`: the failed step left the particles at
+  // the state before it (Newton failed), which is then the last good state; otherwise (a
+  // diverged state, particles out of the grid) the state kept at the last history row is.
+  // Collective: every rank reaches it together (the failures are decided on reduced values).
+  auto failRun = [&](int failedStep, const std::string& status, const std::string& reason, const std::string& advice,
+                     bool stepNotTaken) -> std::runtime_error {
+    r.status = status;
+    r.failedStep = failedStep;
+    r.failedTime = failedStep * dt_;
+    r.failureReason = reason;
+    r.steps = failedStep - 1;
+    r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
+    if (stepNotTaken) {
+      const double t = (failedStep - 1) * dt_;
+      if (lastRecordedStep < failedStep - 1) {
+        history.record(t, r);
+        lastRecordedStep = failedStep - 1;
+      }
+      r.lastGoodStep = failedStep - 1;
+      r.lastGoodTime = t;
+      r.lastGoodFile = writeVtk(t);
+    } else if (keepGoodState) {
+      r.lastGoodStep = goodStep;
+      r.lastGoodTime = goodTime;
+      r.lastGoodFile = writeGoodState();
+    }
+    history.close();
+    writeSummaryOnRoot(r);
+    std::string where = "; history.csv (to step " + std::to_string(lastRecordedStep) + ") and summary.yaml";
+    if (r.lastGoodStep >= 0)
+      where += ", and the last good state (step " + std::to_string(r.lastGoodStep) + ", t = " + formatNumber(r.lastGoodTime) +
+               " s) as " + r.lastGoodFile + "_r*.vtu,";
+    return std::runtime_error(reason + (advice.empty() ? std::string() : "; " + advice) + where + " are in " + outputDir_);
+  };
+
+  const bool tty = isatty(fileno(stderr));
   auto lastPrint = start;
   bool printedProgress = false;
   for (int n = firstStep; n < steps_; ++n) {
@@ -346,15 +386,7 @@ RunResult Simulation::run(std::ostream& log) {
     try {
       integrator_->step(t, dt_);
     } catch (const NewtonNotConverged& e) {
-      // Keep what was computed: the history so far, the last converged particles and a summary.
-      history.close();
-      writeVtk(t);
-      r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
-      r.steps = n;
-      r.status = std::string("stopped: ") + e.what();
-      writeSummaryOnRoot(r);
-      throw std::runtime_error(std::string(e.what()) + "; the last converged state (t = " + formatNumber(t) +
-                               " s) is in " + outputDir_);
+      throw failRun(n + 1, "newton failed", e.what(), "", true);
     }
     const double tNew = (n + 1) * dt_;
     // Before migration and the reach check: a diverging run throws particles off the grid, and
@@ -363,29 +395,16 @@ RunResult Simulation::run(std::ostream& log) {
     const ParticleAudit audit = auditParticles();
     const double divergence = audit.divergence;
     if (divergence > kDivergedStrain) {
-      // The state of step n + 1 is bad: history.csv and summary.yaml end at step n (and the VTU
-      // files written so far are of good states).
-      history.close();
-      r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
-      r.steps = n;
-      r.status = "diverged";
-      r.divergedStep = n + 1;
-      r.divergedTime = tNew;
+      // The state of step n + 1 is bad: the last good one is the last history row's.
+      std::string why;
       if (std::isinf(divergence)) {
         const std::string which = describeBadParticle();
-        r.divergence = which.empty() ? std::string("a particle velocity or stress is not finite") : which;
+        why = which.empty() ? std::string("a particle velocity or stress is not finite") : which;
       } else {
-        r.divergence = "a particle stress is " + formatNumber(divergence) +
-                       " times its material's P-wave modulus (a strain of order one)";
+        why = "a particle stress is " + formatNumber(divergence) + " times its material's P-wave modulus (a strain of order one)";
       }
-      writeSummaryOnRoot(r);
-      std::string goodFile;
-      if (keepGoodState) goodFile = writeGoodState();
-      throw std::runtime_error("the run diverged at step " + std::to_string(n + 1) + " (t = " + formatNumber(tNew) +
-                               " s): " + r.divergence + "; " + timeStepAdvice() + "; history.csv and summary.yaml up to step " +
-                               std::to_string(n) + (goodFile.empty() ? std::string() : ", and the last good state recorded (step " +
-                               std::to_string(goodStep) + ", t = " + formatNumber(goodTime) + " s) as " + goodFile + ".vtu,") +
-                               " are in " + outputDir_);
+      throw failRun(n + 1, "diverged", "the run diverged at step " + std::to_string(n + 1) + " (t = " + formatNumber(tNew) + " s): " + why,
+                    timeStepAdvice(), false);
     }
     // The audit's reach count holds unless particles changed ranks since (migration, balancing).
     bool particlesMoved = false;
@@ -402,12 +421,17 @@ RunResult Simulation::run(std::ostream& log) {
       balanceLoad();
       particlesMoved = true;
     }
-    if (particlesMoved)
-      checkParticlesInReach(tNew);
-    else
-      reportParticlesOutOfReach(audit.outOfReach, tNew);
+    try {
+      if (particlesMoved)
+        checkParticlesInReach(tNew);
+      else
+        reportParticlesOutOfReach(audit.outOfReach, tNew);
+    } catch (const ParticlesOutOfReach& e) {
+      throw failRun(n + 1, "left the grid", e.what(), e.advice, false);
+    }
     if ((n + 1) % historyInterval == 0 || n + 1 == steps_) {
       history.record(tNew, r);
+      lastRecordedStep = n + 1;
       keepState(tNew, n + 1);
     }
     if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);

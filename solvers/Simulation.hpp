@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,13 @@
 namespace impm {
 
 using Point = std::array<double, 3>;  // (x, y, z); z = 0 in 2D
+
+// Particles out of the grid (or of their rank's nodes), or a CPDI domain beyond its stencil: the
+// run stops (Simulation::run's failure contract). `advice` says what to change.
+struct ParticlesOutOfReach : std::runtime_error {
+  ParticlesOutOfReach(const std::string& what, std::string advice) : std::runtime_error(what), advice(std::move(advice)) {}
+  std::string advice;
+};
 
 class Simulation {
  public:

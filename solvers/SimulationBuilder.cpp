@@ -150,9 +150,22 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   const ParameterList& in = deck_.sublist("Integrator");
   dt_ = positive(in, "Integrator", "Time Step");
   steps_ = positiveInt(in, "Integrator", "Number of Steps");
-  if (deck_.sublist("Output").get<int>("Checkpoint Interval") < 0)
-    throw DeckError("'Output/Checkpoint Interval' must be 0 (no checkpoints) or positive, got " +
-                    std::to_string(deck_.sublist("Output").get<int>("Checkpoint Interval")));
+  {
+    // The output intervals: History Interval counts steps between rows (the last step is always
+    // written), so it is at least 1; 0 has a meaning for VTK (first and last step only) and for
+    // checkpoints (none); a negative value has none.
+    const ParameterList& out = deck_.sublist("Output");
+    const int historyInterval = out.get<int>("History Interval");
+    if (historyInterval < 1)
+      throw DeckError("'Output/History Interval' must be at least 1 (steps between rows of history.csv), got " +
+                      std::to_string(historyInterval));
+    if (out.get<int>("VTK Interval") < 0)
+      throw DeckError("'Output/VTK Interval' must be 0 (first and last step only) or positive, got " +
+                      std::to_string(out.get<int>("VTK Interval")));
+    if (out.get<int>("Checkpoint Interval") < 0)
+      throw DeckError("'Output/Checkpoint Interval' must be 0 (no checkpoints) or positive, got " +
+                      std::to_string(out.get<int>("Checkpoint Interval")));
+  }
   checkProblemSize(in.get<std::string>("Type") == "Implicit");
 
   std::vector<ConstraintSpec> cspecs = buildConstraints();

@@ -45,11 +45,14 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Peak Resident Bytes Per Rank Max", r.peakResidentBytesMax);
   s.set("Peak Resident Bytes Total", r.peakResidentBytesTotal);
   s.set("Status", r.status);
-  if (r.divergedStep >= 0) {
-    ParameterList& d = s.sublist("Divergence");
-    d.set("Step", r.divergedStep);
-    d.set("Time", r.divergedTime);
-    d.set("Reason", r.divergence);
+  if (r.failedStep >= 0) {
+    ParameterList& d = s.sublist("Failure");
+    d.set("Step", r.failedStep);
+    d.set("Time", r.failedTime);
+    d.set("Reason", r.failureReason);
+    d.set("Last Good Step", r.lastGoodStep);
+    d.set("Last Good Time", r.lastGoodTime);
+    d.set("Last Good State", r.lastGoodFile.empty() ? std::string("none") : r.lastGoodFile + "_r*.vtu (in particles.pvd)");
   }
   s.set("Exact Solution", exact_ ? exact_->type() : std::string("None"));
   if (exact_) {

@@ -244,6 +244,58 @@ foreach(np 1 2)
     message(FATAL_ERROR "diverged_np${np}: history.csv has ${nrows} lines, expected 6 (header, steps 0 to 4)")
   endif()
 endforeach()
+# Output intervals: History Interval 0 and a negative VTK Interval have no meaning.
+set(good "${good_bar}")
+expect_failure(history_interval_zero "History Interval: 10" "History Interval: 0"
+               "'Output/History Interval' must be at least 1")
+expect_failure(vtk_interval_negative "VTK Interval: 1000" "VTK Interval: -3"
+               "'Output/VTK Interval' must be 0 (first and last step only) or positive, got -3")
+# The failure contract (README, "Exit status"): a run that stops early for any reason exits 1
+# with one message, writes summary.yaml with Status and Failure, history.csv to the last good
+# row, and the last good particles as VTU. `expect_stopped` checks them.
+function(expect_stopped name deck np status key last_good_step rows)
+  set(output "${WORK}/out_${name}")
+  run_and_check(${name} "${deck}" "${output}" ${np} 1 "${key}")
+  file(READ "${output}/summary.yaml" summary)
+  foreach(expected "Status: ${status}" "Last Good Step: ${last_good_step}" "Reason: ")
+    string(FIND "${summary}" "${expected}" found)
+    if(found EQUAL -1)
+      message(FATAL_ERROR "${name}: summary.yaml lacks '${expected}': ${summary}")
+    endif()
+  endforeach()
+  string(REGEX MATCH "Last Good State: '?([a-z_0-9]+)_r" stem "${summary}")
+  set(stem "${CMAKE_MATCH_1}")
+  if(stem STREQUAL "" OR NOT EXISTS "${output}/${stem}_r0.vtu")
+    message(FATAL_ERROR "${name}: no VTU of the last good state ('${stem}_r0.vtu'): ${summary}")
+  endif()
+  file(READ "${output}/particles.pvd" pvd)
+  string(FIND "${pvd}" "${stem}_r0.vtu" found)
+  if(found EQUAL -1)
+    message(FATAL_ERROR "${name}: particles.pvd does not list the last good state ${stem}")
+  endif()
+  file(STRINGS "${output}/history.csv" lines)
+  list(LENGTH lines nlines)
+  if(NOT nlines EQUAL ${rows})
+    message(FATAL_ERROR "${name}: history.csv has ${nlines} lines, expected ${rows}")
+  endif()
+endfunction()
+# Particles that leave the grid: the upper disk alone at 2 m/s towards x+ (no collision). Its
+# rightmost particles sit at x = 0.9375 (2 per 0.05 m cell: sub-box centres 0.0125 + 0.025 k,
+# inside r = 0.2 about 0.75), so their centres pass the grid's edge x = 1 at step 32
+# (0.9375 + 32 x 0.002 = 1.0015). History every 10 steps: the last good row is step 30.
+string(REPLACE "      Velocity X: -0.1\n      Velocity Y: -0.1" "      Velocity X: 2.0\n      Velocity Y: 0.0" deck "${good_disks}")
+string(REPLACE "Number of Steps: 3500" "Number of Steps: 100" deck "${deck}")
+string(REPLACE "Plot: true" "Plot: false" deck "${deck}")
+foreach(np 1 2)
+  expect_stopped(left_grid_np${np} "${deck}" ${np} "left the grid" "left the grid" 30 5)
+endforeach()
+# Newton that does not converge (one Newton iteration allowed on the neo-Hookean column, no step
+# halving): the first step fails; the last good state is the initial one.
+file(READ "${SRC}/../apps/column_implicit_cpgimp_neohookean.yaml" deck)
+string(REPLACE "    Number of Steps: 24" "    Number of Steps: 24\n    Implicit:\n      Maximum Step Halvings: 0" deck "${deck}")
+string(REPLACE "  Constraints:" "  Implicit Solver:\n    Maximum Newton Iterations: 1\n  Constraints:" deck "${deck}")
+string(REPLACE "Plot: true" "Plot: false" deck "${deck}")
+expect_stopped(newton_failed "${deck}" 1 "newton failed" "Newton did not converge" 0 2)
 # Particle Placement (issue 9): an unknown value, and Gauss pairs with an odd count per cell.
 set(good "${good_bar}")
 expect_failure(bad_particle_placement "Particles Per Cell Y: 5" "Particles Per Cell Y: 5\n    Particle Placement: Gaus"
