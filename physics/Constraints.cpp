@@ -31,8 +31,10 @@ std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMa
   int first[3] = {0, 0, 0}, last[3] = {0, 0, 0};
   for (int d = 0; d < g.dim; ++d) {
     const double h = g.spacing(d), t = 1e-9 * h;
-    first[d] = std::max(0, (int)std::ceil((lo[d] - t - g.origin(d)) / h));
-    last[d] = std::min(g.cells(d), (int)std::floor((hi[d] + t - g.origin(d)) / h));
+    // Clamped in double before the conversion: the 3D default box (+-1e300 in z) overflows an int.
+    const double cells = g.cells(d);
+    first[d] = (int)std::min(cells + 1.0, std::max(0.0, std::ceil((lo[d] - t - g.origin(d)) / h)));
+    last[d] = (int)std::max(-1.0, std::min(cells, std::floor((hi[d] + t - g.origin(d)) / h)));
   }
   std::vector<NodeIndex> nodes;
   for (int i = first[0]; i <= last[0]; ++i)

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "physics/Constraints.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {
@@ -78,5 +79,26 @@ TEUCHOS_UNIT_TEST(Bar3d, ExplicitMpm) { check("explicit", "mpm", 0.02, out, succ
 TEUCHOS_UNIT_TEST(Bar3d, ExplicitGimp) { check("explicit", "gimp", 0.02, out, success); }
 TEUCHOS_UNIT_TEST(Bar3d, ImplicitMpm) { check("implicit", "mpm", 0.02, out, success); }
 TEUCHOS_UNIT_TEST(Bar3d, ImplicitGimp) { check("implicit", "gimp", 0.02, out, success); }
+
+}  // namespace
+
+namespace {
+
+// A Box constraint in 3D without Z Min / Z Max covers the whole grid in z (its defaults are
+// -+1e300): every node of the box's x-y range at every z, and none outside it. (The defaults
+// used to overflow the node index and the box held no node.)
+TEUCHOS_UNIT_TEST(Bar3d, BoxWithDefaultZSpansTheGrid) {
+  impm::StructuredGrid g;
+  g.dim = 3;
+  g.nx = 4; g.ny = 3; g.nz = 5;
+  g.hx = g.hy = g.hz = 0.5;
+  const auto all = impm::boxNodes(g, 0.0, 0.0, 0.0, 1.5, -1e300, 1e300);
+  TEST_EQUALITY_CONST(all.size(), size_t(1 * 4 * 6));  // x = 0, 4 nodes in y, 6 in z
+  for (const auto& n : all) {
+    TEST_EQUALITY_CONST(n[0], 0);
+  }
+  const auto beyond = impm::boxNodes(g, 0.0, 2.0, 0.0, 1.5, 1e300, 2e300);
+  TEST_EQUALITY_CONST(beyond.size(), size_t(0));
+}
 
 }  // namespace
