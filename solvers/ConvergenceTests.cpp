@@ -2,7 +2,10 @@
 
 #include <NOX_Abstract_Group.H>
 #include <NOX_Solver_Generic.H>
+#include <NOX_Solver_LineSearchBased.H>
+#include <NOX_Thyra_Vector.H>
 #include <NOX_Utils.H>
+#include <Thyra_TpetraThyraWrappers.hpp>
 
 #include <cmath>
 #include <limits>
@@ -12,13 +15,18 @@ namespace impm {
 
 namespace {
 
-// update = x_k - x_{k-1}; false when there is no previous iterate yet.
+// update = the Newton direction of iteration k, (x_k - x_{k-1}) / lambda_k with lambda_k the step
+// the line search took (1 for Full Step): a damped step must not pass for a converged one. False
+// when there is no previous iterate yet.
 bool computeUpdate(const NOX::Solver::Generic& solver, Teuchos::RCP<NOX::Abstract::Vector>& update) {
   if (solver.getNumIterations() < 1) return false;
   const NOX::Abstract::Vector& x = solver.getSolutionGroup().getX();
   const NOX::Abstract::Vector& xOld = solver.getPreviousSolutionGroup().getX();
   if (update.is_null() || update->length() != x.length()) update = x.clone(NOX::ShapeCopy);
   update->update(1.0, x, -1.0, xOld, 0.0);
+  const auto* lineSearch = dynamic_cast<const NOX::Solver::LineSearchBased*>(&solver);
+  const double step = lineSearch != nullptr ? lineSearch->getStepSize() : 1.0;
+  if (step > 0.0 && step != 1.0) update->scale(1.0 / step);
   return true;
 }
 
@@ -91,6 +99,38 @@ NOX::StatusTest::StatusType EnergyNormTest::checkStatus(const NOX::Solver::Gener
 std::ostream& EnergyNormTest::print(std::ostream& stream, int indent) const {
   indentBy(stream, indent);
   stream << status_ << "Energy Norm |du.R|/|du0.R0| = " << NOX::Utils::sciformat(ratio_, 3)
+         << " <= " << NOX::Utils::sciformat(tolerance_, 3) << "\n";
+  return stream;
+}
+
+// ---------------------------------------------------------------------------------------------
+ResidualMagnitudeTest::ResidualMagnitudeTest(ResidualModel& model, double tolerance)
+    : model_(model), tolerance_(tolerance) {}
+
+NOX::StatusTest::StatusType ResidualMagnitudeTest::checkStatus(const NOX::Solver::Generic& solver,
+                                                               NOX::StatusTest::CheckType checkType) {
+  const NOX::Abstract::Group& group = solver.getSolutionGroup();
+  if (checkType == NOX::StatusTest::None || !group.isF()) {
+    status_ = checkType == NOX::StatusTest::None ? NOX::StatusTest::Unevaluated : NOX::StatusTest::Unconverged;
+    return status_;
+  }
+  const auto& x = dynamic_cast<const NOX::Thyra::Vector&>(group.getX());
+  const auto u = Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getConstTpetraVector(x.getThyraRCPVector());
+  magnitude_ = model_.residualMagnitude(*u);
+  const double normF = group.getNormF();
+  ratio_ = magnitude_ > 0 ? normF / magnitude_ : (magnitude_ == 0 && normF == 0 ? 0.0 : -1.0);
+  // Stalled: the last Newton iteration did not halve ||R|| (or R vanished).
+  const NOX::Abstract::Group& previous = solver.getPreviousSolutionGroup();
+  const bool stalled = normF == 0.0 || (solver.getNumIterations() >= 1 && previous.isF() &&
+                                        normF >= kStagnation * previous.getNormF());
+  status_ = (magnitude_ >= 0 && normF <= tolerance_ * magnitude_ && stalled) ? NOX::StatusTest::Converged
+                                                                              : NOX::StatusTest::Unconverged;
+  return status_;
+}
+
+std::ostream& ResidualMagnitudeTest::print(std::ostream& stream, int indent) const {
+  indentBy(stream, indent);
+  stream << status_ << "Residual Magnitude ||R||/S = " << NOX::Utils::sciformat(ratio_, 3)
          << " <= " << NOX::Utils::sciformat(tolerance_, 3) << "\n";
   return stream;
 }

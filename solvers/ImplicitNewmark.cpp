@@ -316,6 +316,44 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
       });
 }
 
+// || |P| |u| + |m (4/dt v + a)| + |F_ext| ||_2 over the free dofs (ResidualModel::residualMagnitude):
+// with the step's assembled P when there is one (the stiffness carries the large terms of a stiff
+// body's internal force), else with its lumped-mass part 4/dt^2 m alone.
+template <class Shape, int Dim>
+double ImplicitNewmark<Shape, Dim>::residualMagnitude(const Vector& u) {
+  Vector absU(unknownMap_, false), sum(unknownMap_, false);
+  absU.abs(u);
+  const bool withP = !P_.is_null() && P_->getRowMap().get() == unknownMap_.get();
+  if (withP) {
+    if (absP_.is_null() || absPVersion_ != jacobianVersion_ || absP_->getCrsGraph() != P_->getCrsGraph()) {
+      absP_ = Teuchos::rcp(new CrsMatrix(*P_, Teuchos::Copy));
+      auto values = absP_->getLocalMatrixDevice().values;
+      Kokkos::parallel_for(
+          "abs_P", Kokkos::RangePolicy<Exec>(0, values.extent(0)), KOKKOS_LAMBDA(int k) { values(k) = std::fabs(values(k)); });
+      absPVersion_ = jacobianVersion_;
+    }
+    absP_->apply(absU, sum);
+  } else {
+    sum.putScalar(0.0);
+  }
+  {
+    auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    auto au = absU.getLocalViewDevice(Tpetra::Access::ReadOnly);
+    auto out = sum.getLocalViewDevice(Tpetra::Access::ReadWrite);
+    auto node = freeNode_; auto comp = freeComp_;
+    const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+    Kokkos::parallel_for(
+        "residual_magnitude", Kokkos::RangePolicy<Exec>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          const int n = node(k), d = comp(k);
+          const double m = s(n, StateColumns<Dim>::Mass);
+          const double start = std::fabs(m * (c2 * s(n, StateColumns<Dim>::VelX + d) + s(n, StateColumns<Dim>::AccX + d))) +
+                               std::fabs(s(n, StateColumns<Dim>::FextX + d));
+          out(k, 0) = (withP ? out(k, 0) : m * c1 * au(k, 0)) + start;
+        });
+  }
+  return sum.norm2();
+}
+
 template <class Shape, int Dim>
 Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const Vector& u) {
   PhaseTimer phase("stiffness assembly");
@@ -573,7 +611,10 @@ bool ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt) {
   secondsSolve_ += std::chrono::duration<double>(t2 - t1).count();
   secondsSolverSetUp_ += result.setupSeconds;
   residualEvaluations_ += result.residualEvaluations;
-  if (!result.converged) return false;
+  if (!result.converged) {
+    lastFailure_ = result.reason;
+    return false;
+  }
   finishStep(u);
   secondsFinish_ += std::chrono::duration<double>(clock::now() - t2).count();
   newtonPerStep_.push_back(result.newtonIterations);
@@ -617,7 +658,8 @@ void ImplicitNewmark<Shape, Dim>::stepAdaptive(double t, double dt) {
         std::ostringstream msg;
         msg << "Newton did not converge in the sub-step from t = " << tc << " s (dt = " << h
             << " s), and half of it is below the smallest sub-step " << hMin
-            << " s ('Integrator/Implicit/Minimum Time Step' or Time Step / 2^Maximum Step Halvings)";
+            << " s ('Integrator/Implicit/Minimum Time Step' or Time Step / 2^Maximum Step Halvings); the last attempt "
+            << lastFailure_;
         throw NewtonNotConverged(msg.str());
       }
       subStep_ = 0.5 * h;
@@ -643,7 +685,7 @@ void ImplicitNewmark<Shape, Dim>::step(double t, double dt) {
   if (!trySteps(t, dt, 0)) {
     std::ostringstream msg;
     msg << "Newton did not converge in the step from t = " << t << " s (dt = " << dt << " s), even with dt halved "
-        << opt_.maxStepHalvings << " times";
+        << opt_.maxStepHalvings << " times; the last attempt " << lastFailure_;
     throw NewtonNotConverged(msg.str());
   }
 }

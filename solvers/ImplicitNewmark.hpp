@@ -101,6 +101,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   long jacobianVersion() const override { return preconditionerVersion_; }
   Teuchos::RCP<const MultiVector> unknownCoordinates() const override;
   int unknownsPerNode() const override { return Dim; }
+  double residualMagnitude(const Vector& u) override;
 
   // Statistics of the run so far.
   const std::vector<int>& newtonIterationsPerStep() const { return newtonPerStep_; }
@@ -153,6 +154,9 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   // Offsets into overlapP_'s local values: per ghost-region block and local dof pair (r, c), and
   // per owned free dof for the mass diagonal.
   std::vector<size_t> blockOffsets_, diagOffsets_;
+  // |P| (P's values in absolute value) for residualMagnitude, and the P version it was taken of.
+  Teuchos::RCP<CrsMatrix> absP_;
+  long absPVersion_ = -1;
   // Blocks of the assembled stiffness: nodes per direction and spacing of their first nodes
   // (cells: 2 and 1; Q9 elements: 3 and 2; GIMP and quadratic B-spline stencils: 3 and 1; cubic B-splines: 4 and 1).
   int blockNodes_ = 2, blockStride_ = 1;
@@ -166,6 +170,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   std::vector<int> newtonPerStep_, krylovPerNewton_;
   int halvings_ = 0;
+  std::string lastFailure_;  // the reason of the last Newton solve that failed (for the message)
   int hardestStepIterations_ = -1;
   std::vector<double> hardestStepNorms_;
   // Adaptive time step: the sub-step carried from step to step (0: not started), the counts.

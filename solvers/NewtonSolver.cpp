@@ -187,6 +187,18 @@ RCP<const ParameterList> NewtonSolver::validParameters() {
           "needs a Trilinos with MueLu), or None. Across MPI ranks the ILU variants and AMESOS2 act as block Jacobi",
           rcp(new Teuchos::StringValidator(Teuchos::tuple<std::string>("RILUK", "ILUT", "RELAXATION", "CHEBYSHEV",
                                                                        "AMESOS2", "SCHWARZ", "MUELU", "None"))));
+  pl->set("Line Search", "Full Step",
+          "how far along each Newton direction to go (NOX's line searches): Full Step (always 1); Backtrack (the full "
+          "step when it lowers ||R||, else halve it until ||R|| decreases, at most 'Line Search Iterations' times, "
+          "else take the full step: for large rotations, where full steps overshoot); "
+          "Polynomial (quadratic then cubic interpolation until the Armijo condition holds; one more J v product "
+          "per Newton iteration for the slope); More-Thuente (cubic interpolation until the strong Wolfe "
+          "conditions hold). The convergence tests judge the full Newton direction, not the damped step",
+          rcp(new Teuchos::StringValidator(Teuchos::tuple<std::string>("Full Step", "Backtrack", "Polynomial", "More-Thuente"))));
+  pl->set("Line Search Iterations", 8,
+          "the most trial steps of one line search (Backtrack, Polynomial, More-Thuente); when none is accepted the "
+          "full step is taken",
+          rcp(new Teuchos::EnhancedNumberValidator<int>()));
   pl->set("Displacement Tolerance", 1e-10,
           "converged when ||du_k|| <= tol * ||u_k|| (du_k: update of Newton iteration k; 2-norms) AND the "
           "energy criterion holds",
@@ -199,6 +211,14 @@ RCP<const ParameterList> NewtonSolver::validParameters() {
   pl->set("Residual Tolerance", 1e-10,
           "also converged when the unscaled 2-norm of R(u) is below this absolute value (force units); "
           "0 disables this test",
+          numberValidator());
+  pl->set("Residual Magnitude Tolerance", 1e-12,
+          "also converged when ||R(u_k)|| <= tol * S(u_k) and the last Newton iteration did not halve ||R||: S = "
+          "|| |P| |u| + |M (4/dt v + a)| + |F_ext| || (dof by dof absolute values; P the assembled matrix) is the "
+          "size of the terms R is summed from, its round-off is bounded by about eps S (eps = 2.2e-16), and Newton "
+          "stalls at that floor (a stiff body's translation makes S large; Jacobian-free differences add their own "
+          "noise). A residual that is both below 1e-12 of the problem's own force scale and no longer falling is "
+          "converged as far as the arithmetic can tell; 0 disables this test",
           numberValidator());
   pl->set("Maximum Newton Iterations", 20, "the step fails when not converged after this many Newton iterations",
           rcp(new Teuchos::EnhancedNumberValidator<int>()));
@@ -216,7 +236,7 @@ RCP<const ParameterList> NewtonSolver::validParameters() {
               "equations' (the dimension) and the near-null space (rigid-body modes) itself")
       .disableRecursiveValidation();
   pl->sublist("NOX", false,
-              "passed to NOX (defaults: Line Search Based, Full Step, Newton with a constant forcing term, errors "
+              "passed to NOX (defaults: Line Search Based, the 'Line Search' above, Newton with a constant forcing term, errors "
               "printed only, Complete status test checks); these keys win over the derived ones")
       .disableRecursiveValidation();
   pl->sublist("Stratimikos", false,
@@ -246,6 +266,9 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
   residualTol_ = pl.get<double>("Residual Tolerance");
   if (!(residualTol_ >= 0) || !std::isfinite(residualTol_))
     throw std::invalid_argument(where("Residual Tolerance") + " must be non-negative (got " + sci(residualTol_) + ")");
+  magnitudeTol_ = pl.get<double>("Residual Magnitude Tolerance");
+  if (!(magnitudeTol_ >= 0) || !(magnitudeTol_ < 1))
+    throw std::invalid_argument(where("Residual Magnitude Tolerance") + " must be in [0, 1) (got " + sci(magnitudeTol_) + ")");
   linearTol_ = positive(pl, "Linear Tolerance");
   if (linearTol_ >= 1) throw std::invalid_argument(where("Linear Tolerance") + " must be below 1 (got " + sci(linearTol_) + ")");
   maxNewton_ = positiveInt(pl, "Maximum Newton Iterations");
@@ -321,7 +344,28 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
   noxParams_ = rcp(new ParameterList(pl.sublist("NOX")));
   ParameterList& nox = *noxParams_;
   setDefault(nox, "Nonlinear Solver", "Line Search Based");
-  setDefault(nox.sublist("Line Search"), "Method", "Full Step");
+  {
+    // The deck's 'Line Search' in NOX's spelling; NOX/Line Search/Method, when given, must agree.
+    std::string method = pl.get<std::string>("Line Search");
+    if (method == "More-Thuente") method = "More'-Thuente";
+    ParameterList& ls = nox.sublist("Line Search");
+    if (ls.isParameter("Method") && ls.get<std::string>("Method") != method && !pl.getEntry("Line Search").isDefault())
+      throw std::invalid_argument(where("NOX/Line Search/Method") + " = " + ls.get<std::string>("Method") +
+                                  " contradicts " + where("Line Search") + " = " + pl.get<std::string>("Line Search"));
+    setDefault(ls, "Method", method);
+    const int iterations = positiveInt(pl, "Line Search Iterations");
+    const std::string chosen = ls.get<std::string>("Method");
+    if (chosen != "Full Step") {
+      ParameterList& options = ls.sublist(chosen);
+      setDefault(options, "Max Iters", iterations);
+      // A line search that finds no acceptable step takes the full Newton step and goes on.
+      setDefault(options, "Recovery Step", 1.0);
+      if (chosen == "Polynomial") setDefault(options, "Recovery Step Type", "Constant");
+      // The slope from a difference of residuals: the Jacobian-free group has no Jacobian to
+      // apply, and an assembled one would be reassembled at every trial point.
+      if (chosen == "More'-Thuente") setDefault(options, "Optimize Slope Calculation", true);
+    }
+  }
   setDefault(nox.sublist("Direction"), "Method", "Newton");
   ParameterList& newton = nox.sublist("Direction").sublist("Newton");
   setDefault(newton, "Forcing Term Method", "Constant");
@@ -352,6 +396,7 @@ struct NewtonSolver::NoxSetUp {
   RCP<NOX::StatusTest::NormF> normF;
   RCP<DisplacementNormTest> displacement;
   RCP<EnergyNormTest> energy;
+  RCP<ResidualMagnitudeTest> magnitude;  // null when Residual Magnitude Tolerance = 0
   RCP<NOX::StatusTest::MaxIters> maxIters;
   RCP<KrylovObserver> observer;
   RCP<NOX::Solver::Generic> solver;
@@ -468,6 +513,10 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
     tests->addStatusTest(s.finite);
     tests->addStatusTest(s.normF);
     tests->addStatusTest(both);
+    if (magnitudeTol_ > 0) {
+      s.magnitude = rcp(new ResidualMagnitudeTest(model, magnitudeTol_));
+      tests->addStatusTest(s.magnitude);
+    }
     tests->addStatusTest(s.maxIters);
 
     auto noxParams = rcp(new ParameterList(*noxParams_));
@@ -507,6 +556,7 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
   result.finalResidualNorm = soln.isF() ? soln.getNormF() : -1.0;
   result.displacementNorm = s.displacement->ratio();
   result.energyNorm = s.energy->ratio();
+  result.residualMagnitudeRatio = s.magnitude.is_null() ? -1.0 : s.magnitude->ratio();
   result.residualEvaluations = me->residualEvaluations();
   result.jacobianEvaluations = me->jacobianEvaluations();
   result.preconditionerInitializations = prec.is_null() ? 0 : prec->initializations() - initsBefore;
@@ -515,11 +565,15 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
   const std::string its = " after " + std::to_string(result.newtonIterations) + " Newton iteration" +
                           (result.newtonIterations == 1 ? "" : "s");
   const std::string values = "||R|| = " + sci(result.finalResidualNorm) + ", ||du||/||u|| = " +
-                             sci(result.displacementNorm) + ", energy ratio = " + sci(result.energyNorm);
+                             sci(result.displacementNorm) + ", energy ratio = " + sci(result.energyNorm) +
+                             (s.magnitude.is_null() ? std::string() : ", ||R||/S = " + sci(result.residualMagnitudeRatio));
   if (result.converged) {
     if (s.normF->getStatus() == NOX::StatusTest::Converged)
       why << "converged" << its << ": ||R|| = " << sci(result.finalResidualNorm) << " < Residual Tolerance "
           << sci(residualTol_);
+    else if (!s.magnitude.is_null() && s.magnitude->getStatus() == NOX::StatusTest::Converged)
+      why << "converged" << its << ": ||R|| = " << sci(result.finalResidualNorm) << " <= " << sci(magnitudeTol_)
+          << " x its magnitude " << sci(s.magnitude->magnitude()) << " and no longer falling (round-off floor)";
     else
       why << "converged" << its << ": ||du||/||u|| = " << sci(result.displacementNorm) << " <= "
           << sci(displacementTol_) << " and energy ratio = " << sci(result.energyNorm) << " <= " << sci(energyTol_);

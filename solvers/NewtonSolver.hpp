@@ -6,8 +6,9 @@
 //     right-preconditioned by an Ifpack2 preconditioner built from P, or
 //   - assembled Newton: the Jacobian is P itself, solved by Amesos2 (KLU2) or by
 //     Ifpack2-preconditioned Belos GMRES to a tight tolerance.
-// Convergence: (displacement norm AND energy norm) OR absolute residual norm, at most
-// "Maximum Newton Iterations" (see validParameters() for every key).
+// Convergence: (displacement norm AND energy norm) OR absolute residual norm OR the residual within
+// a few hundred times its own round-off (ResidualMagnitudeTest), at most "Maximum Newton
+// Iterations" (see validParameters() for every key).
 //
 // Every call here is collective: call the constructor and solve() on all ranks of the map's
 // communicator. The unknown map may change from one solve() to the next.
@@ -49,6 +50,8 @@ struct NewtonResult {
   // Final values of the three criteria: ||R(u)||_2 (absolute, unscaled), ||du_k|| / ||u_k|| and
   // |du_k . R_k| / |du_0 . R_0| (both -1 when no Newton step was taken).
   double finalResidualNorm = 0, displacementNorm = 0, energyNorm = 0;
+  // ||R|| / S at the end (ResidualModel::residualMagnitude; -1 when not evaluated).
+  double residualMagnitudeRatio = -1;
   std::string reason;  // why it stopped, human readable
   // Cost accounting (same on every rank).
   int residualEvaluations = 0;  // calls of ResidualModel::residual (J-free products included)
@@ -96,7 +99,7 @@ class NewtonSolver {
   JacobianMode jacobian_ = JacobianMode::JacobianFree;
   AssembledSolver assembledSolver_ = AssembledSolver::Amesos2;
   std::string precType_;
-  double displacementTol_ = 0, energyTol_ = 0, residualTol_ = 0, linearTol_ = 0;
+  double displacementTol_ = 0, energyTol_ = 0, residualTol_ = 0, magnitudeTol_ = 0, linearTol_ = 0;
   int maxNewton_ = 0, maxKrylov_ = 0;
 
   Teuchos::RCP<Teuchos::ParameterList> noxParams_;          // NOX sublist + our defaults

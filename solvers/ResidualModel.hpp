@@ -34,6 +34,12 @@ class ResidualModel {
   // as gid = unknownsPerNode() * node gid + component. Null: no such layout.
   virtual Teuchos::RCP<const MultiVector> unknownCoordinates() const { return Teuchos::null; }
   virtual int unknownsPerNode() const { return 1; }
+  // The size of the terms R(u) is summed from: || |P| |u| + |b| ||_2, dof by dof, with b the part
+  // of R that does not depend on u (the inertia of the step's start and the external force). R is
+  // computed in floating point from terms of this size, so round-off leaves it uncertain by about
+  // machine epsilon times this, and no Newton iteration can reduce it further (NewtonSolver's
+  // residual magnitude test). Negative: unknown. Collective.
+  virtual double residualMagnitude(const Vector& /*u*/) { return -1.0; }
 };
 
 }  // namespace impm

@@ -220,7 +220,15 @@ std::string Simulation::timeStepAdvice() const {
            formatNumber(criticalStep_) + " s of these cells and particles, allowed by 'Integrator/Explicit/Stability Factor' = " +
            formatNumber(deck_.sublist("Integrator").sublist("Explicit").get<double>("Stability Factor")) +
            " (keep it at most 1)";
-  return "reduce " + step + " (the stable step of these cells and particles is " + formatNumber(criticalStep_) + " s)";
+  std::string advice = "reduce " + step + " (the stable step of these cells and particles is " + formatNumber(criticalStep_) + " s)";
+  // Within the stable step, linear MPM with USL still inverts a particle that crosses alone into
+  // a cell (its far nodes' tiny mass takes a huge velocity; README, "Cell crossing"): a smaller
+  // step only makes that rarer.
+  if (shape_ == "MPM" && deck_.sublist("Integrator").sublist("Explicit").get<std::string>("Update Scheme") == "USL")
+    advice += ", or, if a particle crossed a cell line alone (impact, a moving free surface), use 'Method/Shape Function' = "
+              "GIMP (or cpGIMP, CPDI, a B-spline) or 'Integrator/Explicit/Update Scheme' = MUSL: linear MPM with USL "
+              "can invert such a particle at any time step";
+  return advice;
 }
 
 RunResult Simulation::run(std::ostream& log) {

@@ -86,7 +86,18 @@ class NewmarkBar : public impm::ResidualModel {
   bool freshMapObject = false;
 
   void residual(const Vector& u, Vector& R) override {
-    A_->apply(u, R);
+    if (offset != 0.0) {
+      // R = A (u + w) - A w: the same function, but each evaluation rounds off about eps |A| |u + w|.
+      Vector shifted(u, Teuchos::Copy), Aw(map_);
+      Vector w(map_);
+      w.putScalar(offset);
+      shifted.update(1.0, w, 1.0);
+      A_->apply(shifted, R);
+      A_->apply(w, Aw);
+      R.update(-1.0, Aw, 1.0);
+    } else {
+      A_->apply(u, R);
+    }
     {
       auto uh = u.getLocalViewHost(Tpetra::Access::ReadOnly);
       auto Rh = R.getLocalViewHost(Tpetra::Access::ReadWrite);
@@ -114,15 +125,43 @@ class NewmarkBar : public impm::ResidualModel {
     return J;
   }
 
+  // || |A| (|u + w| + |w|) + |c u^3| + |f| ||: the size of the terms R is summed from (reported when
+  // reportsMagnitude; otherwise unknown, as the default ResidualModel says).
+  double residualMagnitude(const Vector& u) override {
+    if (!reportsMagnitude) return -1.0;
+    if (absA_.is_null()) {
+      absA_ = rcp(new CrsMatrix(*A_, Teuchos::Copy));
+      absA_->resumeFill();
+      auto values = absA_->getLocalMatrixHost().values;
+      for (size_t k = 0; k < values.extent(0); ++k) values(k) = std::fabs(values(k));
+      absA_->fillComplete();
+    }
+    Vector magnitudes(map_), sum(map_);
+    {
+      auto uh = u.getLocalViewHost(Tpetra::Access::ReadOnly);
+      auto mh = magnitudes.getLocalViewHost(Tpetra::Access::OverwriteAll);
+      for (size_t i = 0; i < uh.extent(0); ++i) mh(i, 0) = std::fabs(uh(i, 0) + offset) + std::fabs(offset);
+    }
+    absA_->apply(magnitudes, sum);
+    {
+      auto uh = u.getLocalViewHost(Tpetra::Access::ReadOnly);
+      auto sh = sum.getLocalViewHost(Tpetra::Access::ReadWrite);
+      for (size_t i = 0; i < uh.extent(0); ++i) sh(i, 0) += std::fabs(c_ * uh(i, 0) * uh(i, 0) * uh(i, 0)) + std::fabs(load_);
+    }
+    return sum.norm2();
+  }
+
   std::vector<double> residualNorms;  // ||R|| of every residual() call
   int jacobianCalls = 0;
+  double offset = 0.0;            // w: a rigid offset carried through every residual evaluation
+  bool reportsMagnitude = false;  // whether residualMagnitude() answers
 
  private:
   double c_;
   bool newMatrixEachCall_;
   double load_ = 0;
   RCP<const Map> map_;
-  RCP<CrsMatrix> A_, J_;
+  RCP<CrsMatrix> A_, J_, absA_;
   std::vector<std::vector<GO>> cols_;  // rows of A (global columns) ...
   std::vector<std::vector<Scalar>> vals_;
   std::vector<size_t> diag_;  // ... and where the diagonal sits in each
@@ -377,6 +416,40 @@ TEUCHOS_UNIT_TEST(NewtonSolver, DisplacementAndEnergyCriteriaAlone) {
   TEST_ASSERT(r.reason.find("energy") != std::string::npos);
   TEST_ASSERT(r.displacementNorm >= 0 && r.displacementNorm <= 1e-10);
   TEST_ASSERT(r.energyNorm >= 0 && r.energyNorm <= 1e-20);
+}
+
+// The residual's own round-off: the bar carried by a rigid offset w = 1e3 (as a stiff body's nodes
+// carry its translation), R = A (u + w) - A w + c u^3 - f. The function is the bar's, but every
+// evaluation rounds off ~eps |A| |w|, and Newton stalls there, about 1e-6 against ||R(0)|| ~ 1: the
+// absolute residual test (1e-10) and the displacement and energy tests never pass, and the solve
+// fails after its 20 iterations. The residual magnitude test accepts the first iterate that is
+// below 1e-12 S (S = || |A| (|u + w| + |w|) + |c u^3| + |f| ||, eps S bounds that round-off) and
+// no longer falling, and that solution is the offset-free bar's to within what the offset's
+// round-off allows.
+TEUCHOS_UNIT_TEST(NewtonSolver, ResidualMagnitudeRecognisesTheRoundOffFloor) {
+  NewmarkBar exact(1000, kCubic), carried(1000, kCubic);
+  carried.offset = 1e3;
+  carried.reportsMagnitude = true;
+  Vector uExact(exact.unknownMap()), u(carried.unknownMap()), uOld(carried.unknownMap());
+  const NewtonResult reference = NewtonSolver(params("Assembled")).solve(exact, uExact);
+  TEST_ASSERT(reference.converged);
+
+  auto without = params("Assembled");
+  without->set("Residual Magnitude Tolerance", 0.0);
+  const NewtonResult old = NewtonSolver(without).solve(carried, uOld);
+  out << "without the magnitude test: " << summarize(old) << "\n";
+  TEST_ASSERT(!old.converged);
+  TEST_ASSERT(old.finalResidualNorm > 1e-9);  // the floor, far above the absolute tolerance
+
+  const NewtonResult r = NewtonSolver(params("Assembled")).solve(carried, u);
+  out << "with it: " << summarize(r) << "; ||u - u_exact|| / ||u_exact|| = " << relDiff(u, uExact) << "\n";
+  TEST_ASSERT(r.converged);
+  TEST_ASSERT(r.reason.find("magnitude") != std::string::npos);
+  TEST_ASSERT(r.newtonIterations <= 8);
+  TEST_ASSERT(r.residualMagnitudeRatio >= 0 && r.residualMagnitudeRatio <= 1e-12);
+  TEST_ASSERT(r.finalResidualNorm <= 2 * old.finalResidualNorm);  // at the floor, not above it
+  // The floor's displacement error: ||A^-1|| (~ 1 / 4e4, the mass term) times the floor (~1e-6).
+  TEST_ASSERT(relDiff(u, uExact) < 2e-8);
 }
 
 TEUCHOS_UNIT_TEST(NewtonSolver, MaximumNewtonIterationsStops) {
