@@ -82,6 +82,9 @@ expect_failure(unstable "Time Step: 1.0e-8" "Time Step: 1.0e-6" "Integrator/Time
 expect_failure(bad_choice "Update Scheme: USL" "Update Scheme: USX" "Integrator/Explicit/Update Scheme")
 expect_failure(negative_damping "Update Scheme: USL" "Update Scheme: USL\n      Mass Damping: -1.0" "Integrator/Explicit/Mass Damping")
 expect_failure(bad_preconditioner "  Output:" "  Implicit Solver:\n    Preconditioner: MAGIC\n  Output:" "Implicit Solver/Preconditioner")
+expect_failure(bad_line_search "  Output:" "  Implicit Solver:\n    Line Search: Wolfe\n  Output:" "'Wolfe' for 'Implicit Solver/Line Search'")
+expect_failure(contradicting_line_search "  Output:" "  Implicit Solver:\n    Line Search: Backtrack\n    NOX:\n      Line Search:\n        Method: Polynomial\n  Output:"
+               "'Implicit Solver/NOX/Line Search/Method' = Polynomial contradicts 'Implicit Solver/Line Search' = Backtrack")
 expect_failure(negative_tolerance "  Output:" "  Implicit Solver:\n    Displacement Tolerance: -1.0e-8\n  Output:" "Implicit Solver/Displacement Tolerance")
 # Preconditioner: MUELU: MueLu's list is checked at deck time (a misspelt key, a value MueLu
 # rejects); without MueLu in the Trilinos the preconditioner itself is refused.
