@@ -325,7 +325,8 @@ double ImplicitNewmark<Shape, Dim>::residualMagnitude(const Vector& u) {
   absU.abs(u);
   const bool withP = !P_.is_null() && P_->getRowMap().get() == unknownMap_.get();
   if (withP) {
-    if (absP_.is_null() || absPVersion_ != jacobianVersion_ || absP_->getCrsGraph() != P_->getCrsGraph()) {
+    // Every assembly bumps jacobianVersion_ (a new P_ object too): |P| is taken once per P.
+    if (absP_.is_null() || absPVersion_ != jacobianVersion_) {
       absP_ = Teuchos::rcp(new CrsMatrix(*P_, Teuchos::Copy));
       auto values = absP_->getLocalMatrixDevice().values;
       Kokkos::parallel_for(

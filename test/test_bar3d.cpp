@@ -86,8 +86,8 @@ TEUCHOS_UNIT_TEST(Bar3d, ImplicitGimp) { check("implicit", "gimp", 0.02, out, su
 namespace {
 
 // A Box constraint in 3D without Z Min / Z Max covers the whole grid in z (its defaults are
-// -+1e300): every node of the box's x-y range at every z, and none outside it. (The defaults
-// used to overflow the node index and the box held no node.)
+// -+1e300, beyond an int node index: boxNodes clamps before converting): every node of the box's
+// x-y range at every z, and none outside it.
 TEUCHOS_UNIT_TEST(Bar3d, BoxWithDefaultZSpansTheGrid) {
   impm::StructuredGrid g;
   g.dim = 3;
