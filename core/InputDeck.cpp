@@ -411,6 +411,7 @@ RCP<const ParameterList> validParameters() {
   {
     ParameterList& p = valid->sublist("Output", false, "what is written");
     p.set("History Interval", 10, "steps between rows of history.csv");
+    p.set("History Digits", 10, "significant digits of the values in history.csv (1 to 17; 17 writes every double exactly)");
     p.set("VTK Interval", 0, "steps between VTU particle files (0: first and last step only)");
     p.set("Plot", true, "write plot.png (computed against exact) with python3-matplotlib");
     p.set("Progress", true, "print a progress line with ETA on runs longer than a few seconds");

@@ -24,7 +24,7 @@ History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, c
   field_ = exact_ && exact_->displacementAt(X, firstTime, particles_.dim, u);
 }
 
-void History::open(const std::string& path) {
+void History::open(const std::string& path, int digits) {
   if (comm_->getRank() != 0) return;
   csv_.open(path);
   if (!csv_) throw std::runtime_error("cannot write " + path);
@@ -35,7 +35,7 @@ void History::open(const std::string& path) {
   }
   if (energy_) csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y" << (particles_.dim == 3 ? ",momentum_z" : "");
   if (field_) csv_ << ",displacement_error_rms,displacement_error_max";
-  csv_ << '\n' << std::setprecision(10);
+  csv_ << '\n' << std::setprecision(digits);
 }
 
 void History::close() {

@@ -75,8 +75,8 @@ class History {
           const ExactReference* exact, bool energyAndMomentum, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
           double firstTime);
 
-  // Rank 0 writes the header of `path`; collective.
-  void open(const std::string& path);
+  // Rank 0 writes the header of `path`, values with `digits` significant digits; collective.
+  void open(const std::string& path, int digits = 10);
   // One row at time t, into the file and into r. Collective.
   void record(double t, RunResult& r);
   void close();

@@ -255,7 +255,7 @@ RunResult Simulation::run(std::ostream& log) {
   noteLoadImbalance(r);
 
   History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_);
-  rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv"); });
+  rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv", out.get<int>("History Digits")); });
 
   PvdIndex pvd(outputDir_ + "/particles.pvd", comm_->getSize());
   int vtkCount = 0;

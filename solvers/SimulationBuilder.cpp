@@ -159,6 +159,10 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
     if (historyInterval < 1)
       throw DeckError("'Output/History Interval' must be at least 1 (steps between rows of history.csv), got " +
                       std::to_string(historyInterval));
+    const int digits = out.get<int>("History Digits");
+    if (digits < 1 || digits > 17)
+      throw DeckError("'Output/History Digits' must be from 1 to 17 (significant digits in history.csv), got " +
+                      std::to_string(digits));
     if (out.get<int>("VTK Interval") < 0)
       throw DeckError("'Output/VTK Interval' must be 0 (first and last step only) or positive, got " +
                       std::to_string(out.get<int>("VTK Interval")));
