@@ -74,7 +74,7 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
                 Dim == 3 ? PlaneCondition::Solid : linear ? PlaneCondition::PlaneStress : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
   if (mat.anyHistory()) ps.allocateHistory();
-  NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
+  GridConditions bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
   const LoadSpec load = LoadSpec::faceTraction("end", body, "x+", 1.0, 0.0);
   LoadSet loads({load}, dist, {-1}, 1);
   ExplicitOptions opt;

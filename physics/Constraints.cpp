@@ -43,28 +43,4 @@ std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMa
   return nodes;
 }
 
-NodalConstraints::NodalConstraints(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist) {
-  const StructuredGrid& g = dist.grid();
-  const LocalNodeIndexer& owned = dist.ownedIndexer();
-  std::vector<int> nodes, comps;
-  for (const auto& s : specs) {
-    std::vector<NodeIndex> ijk;
-    if (s.where == "Face") ijk = faceNodes(g, s.body, s.face);
-    else if (s.where == "Box") ijk = boxNodes(g, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
-    else
-      ijk.push_back({(int)std::lround((s.x - g.x0) / g.hx), (int)std::lround((s.y - g.y0) / g.hy),
-                     g.dim == 3 ? (int)std::lround((s.z - g.z0) / g.hz) : 0});
-    for (auto [i, j, k] : ijk) {
-      if (!owned.contains(i, j, k)) continue;
-      for (int d = 0; d < g.dim; ++d)
-        if (s.fixes(d)) { nodes.push_back(owned(i, j, k)); comps.push_back(d); }
-    }
-  }
-  node_ = Kokkos::View<int*, DeviceType>("constraint_nodes", nodes.size());
-  comp_ = Kokkos::View<int*, DeviceType>("constraint_components", comps.size());
-  auto hn = Kokkos::create_mirror_view(node_); auto hc = Kokkos::create_mirror_view(comp_);
-  for (size_t k = 0; k < nodes.size(); ++k) { hn(k) = nodes[k]; hc(k) = comps[k]; }
-  Kokkos::deep_copy(node_, hn); Kokkos::deep_copy(comp_, hc);
-}
-
 }  // namespace impm

@@ -1,5 +1,5 @@
-// Velocity / displacement constraints on grid node sets: each entry fixes one component of
-// one owned node to zero.
+// Prescribed motion of grid node sets (a face, a node, a box): which components, and their
+// motion (fixed, or a velocity or displacement times a time function). GridConditions applies them.
 #pragma once
 
 #include <array>
@@ -8,6 +8,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "physics/Body.hpp"
+#include "physics/TimeFunction.hpp"
 
 namespace impm {
 
@@ -20,8 +21,20 @@ struct ConstraintSpec {
   RectangularBody body; // the body whose face it is (Face)
   double x = 0, y = 0, z = 0;  // the node (Node)
   double xMin = 0, xMax = 0, yMin = 0, yMax = 0, zMin = 0, zMax = 0;  // the box, edges included (Box)
-  bool fixX = false, fixY = false, fixZ = false;
+  bool fixX = false, fixY = false, fixZ = false;  // the components it prescribes
   bool fixes(int d) const { return d == 0 ? fixX : d == 1 ? fixY : fixZ; }
+  // Fixed: the prescribed components stay at rest. Velocity: v_d(t) = value[d] f(t).
+  // Displacement: u_d(t) = value[d] f(t) from the start of the run.
+  enum class Motion { Fixed, Velocity, Displacement } motion = Motion::Fixed;
+  double value[3] = {0, 0, 0};
+  TimeFunction time{TimeFunction::Kind::Constant};
+  // The same motion of component d (for two conditions that share a dof).
+  bool sameMotion(const ConstraintSpec& o, int d) const {
+    const bool stillHere = motion == Motion::Fixed || value[d] == 0.0;
+    const bool stillThere = o.motion == Motion::Fixed || o.value[d] == 0.0;
+    if (stillHere || stillThere) return stillHere && stillThere;
+    return motion == o.motion && value[d] == o.value[d] && time == o.time;
+  }
 
   static ConstraintSpec onFace(const std::string& name, const RectangularBody& body, const std::string& face, bool fixX,
                                bool fixY) {
@@ -45,26 +58,5 @@ std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMa
 // Grid nodes on a face of the body, within the body's extent along the face.
 std::vector<NodeIndex> faceNodes(const StructuredGrid& g, const RectangularBody& body, const std::string& face);
 
-class NodalConstraints {
- public:
-  NodalConstraints() = default;
-  NodalConstraints(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist);
-
-  // Zero the constrained components of vector fields stored in columns col.. (one per
-  // dimension) of an owned grid view (used for velocity, acceleration and displacement).
-  template <class ExecSpace, class GridView>
-  void apply(const GridView& owned, int col) const {
-    auto node = node_; auto comp = comp_;
-    Kokkos::parallel_for(
-        "apply_constraints", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)),
-        KOKKOS_LAMBDA(int k) { owned(node(k), col + comp(k)) = 0.0; });
-  }
-  // Owned local node index and component of each constraint on this rank.
-  Kokkos::View<int*, DeviceType> nodes() const { return node_; }
-  Kokkos::View<int*, DeviceType> components() const { return comp_; }
-
- private:
-  Kokkos::View<int*, DeviceType> node_, comp_;
-};
 
 }  // namespace impm

@@ -7,16 +7,6 @@
 
 namespace impm {
 
-double TimeFunction::operator()(double t) const {
-  switch (kind) {
-    case Kind::Step: return t >= startTime ? 1.0 : 0.0;
-    case Kind::Sine: return std::sin(omega * t);
-    case Kind::Constant: return 1.0;
-    case Kind::Ramp: return t >= startTime + rampTime ? 1.0 : t > startTime ? (t - startTime) / rampTime : 0.0;
-  }
-  return 0.0;
-}
-
 namespace {
 // The share of a uniform traction on [lo, hi] that node `node` (at xc) receives: the integral of
 // its 1D shape function over [lo, hi] divided by (hi - lo), the consistent nodal force. Tents for

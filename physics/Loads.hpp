@@ -12,16 +12,9 @@
 #include "core/kernels/ParticleToGrid.hpp"
 #include "physics/Body.hpp"
 #include "physics/ManufacturedSolution.hpp"
+#include "physics/TimeFunction.hpp"
 
 namespace impm {
-
-struct TimeFunction {
-  enum class Kind { Step, Sine, Constant, Ramp } kind = Kind::Step;
-  double omega = 0.0;      // Sine: angular frequency (rad/s)
-  double startTime = 0.0;  // Step: load is on for t >= startTime; Ramp: starts rising at startTime
-  double rampTime = 0.0;   // Ramp: from 0 to 1 linearly over [startTime, startTime + rampTime]
-  double operator()(double t) const;
-};
 
 struct LoadSpec {
   std::string name;

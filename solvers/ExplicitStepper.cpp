@@ -8,9 +8,9 @@ namespace impm {
 
 template <class Shape, int Dim>
 ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
-                                        const Materials& material, const NodalConstraints& constraints,
+                                        const Materials& material, GridConditions& conditions,
                                         const LoadSet& loads, const ExplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), fields_(dist, A::Count, K::Count),
+    : ps_(particles), dist_(dist), mat_(material), conditions_(conditions), loads_(loads), opt_(options), fields_(dist, A::Count, K::Count),
       projection_(dist) {
   // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
@@ -65,16 +65,22 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
           kinv(n, K::AccX + d) = a;
         }
       });
-  // A fixed component has zero velocity and zero acceleration.
-  bc_.template apply<Exec>(kinv, K::VelX);
-  bc_.template apply<Exec>(kinv, K::AccX);
+  // Grid conditions: prescribed velocity and acceleration, and the force that holds them.
+  if (withForces) {
+    conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, kinv, K::VelX, K::AccX,
+                                                       damping);
+  } else {  // (update stress first: the velocity at the start of the step)
+    conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity);
+    conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero);
+  }
 }
 
 // See solvers/ProjectionCorrection.hpp: v += M_L^-1 (p - M_C v) on the momentum sums.
 template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::correctProjection() {
   PhaseTimer phase("projection correction");
-  projection_.apply(*fields_.accumOwned, A::Mass, A::MomX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
+  projection_.apply(*fields_.accumOwned, A::Mass, A::MomX, ps_, ps_.v, conditions_, PrescribedField::StartVelocity, massCutoff_,
+                    opt_.projectionIterations);
 }
 
 template <class Shape, int Dim>
@@ -95,6 +101,7 @@ template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
   const StructuredGrid& g = dist_.grid();
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
+  conditions_.setStep(t, dt);
 
   const bool usf = opt_.scheme == ExplicitScheme::USF;
   if (usf) {
@@ -137,7 +144,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
             const double m = acc(n, A::Mass);
             for (int d = 0; d < Dim; ++d) acc(n, A::MomX + d) = m > cutoff ? acc(n, A::MomX + d) / m : 0.0;
           });
-      bc_.template apply<Exec>(acc, A::MomX);
+      conditions_.template write<Exec>(acc, A::MomX, PrescribedField::EndVelocity);
     }
     fields_.importAccumulated();
     stressFromGhostedVelocity(dt, true);

@@ -8,7 +8,7 @@
 #include "core/kernels/GridToParticle.hpp"
 #include "core/kernels/InternalForce.hpp"
 #include "core/kernels/ParticleToGrid.hpp"
-#include "physics/Constraints.hpp"
+#include "physics/GridConditions.hpp"
 #include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
@@ -43,7 +43,7 @@ template <class Shape, int Dim = 2>
 class ExplicitStepper : public Integrator {
  public:
   ExplicitStepper(ParticleSet& particles, const GridDistribution& dist, const Materials& material,
-                  const NodalConstraints& constraints, const LoadSet& loads, const ExplicitOptions& options);
+                  GridConditions& conditions, const LoadSet& loads, const ExplicitOptions& options);
 
   void step(double t, double dt) override;
   std::string name() const override;
@@ -62,7 +62,7 @@ class ExplicitStepper : public Integrator {
   ParticleSet& ps_;
   const GridDistribution& dist_;
   Materials mat_;
-  const NodalConstraints& bc_;
+  GridConditions& conditions_;
   const LoadSet& loads_;
   ExplicitOptions opt_;
   GridFields fields_;

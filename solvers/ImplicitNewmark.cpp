@@ -44,9 +44,9 @@ struct ForceColumns {
 
 template <class Shape, int Dim>
 ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist,
-                                        const Materials& material, const NodalConstraints& constraints,
+                                        const Materials& material, GridConditions& conditions,
                                         const LoadSet& loads, const ImplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), bc_(constraints), loads_(loads), opt_(options), projection_(dist) {
+    : ps_(particles), dist_(dist), mat_(material), conditions_(conditions), loads_(loads), opt_(options), projection_(dist) {
   solver_ = std::make_unique<NewtonSolver>(opt_.solverParams);
   stateOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), StateColumns<Dim>::Count));
   stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), StateColumns<Dim>::Count));
@@ -90,6 +90,7 @@ template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::setUpStep(double t, double dt) {
   PhaseTimer phase("implicit step set-up (p2g)");
   dt_ = dt;
+  conditions_.setStep(t, dt);
   const StructuredGrid& g = dist_.grid();
   // Particles to grid at t: mass, momentum, m a; particle forces at t + dt.
   stateGhosted_->putScalar(0.0);
@@ -154,9 +155,10 @@ void ImplicitNewmark<Shape, Dim>::setUpStep(double t, double dt) {
             s(n, StateColumns<Dim>::FreeX + d) = massive ? 1.0 : 0.0;
           }
         });
-    bc_.template apply<Exec>(s, StateColumns<Dim>::VelX);
-    bc_.template apply<Exec>(s, StateColumns<Dim>::AccX);
-    bc_.template apply<Exec>(s, StateColumns<Dim>::FreeX);
+    // Grid conditions: their dofs start the step with the prescribed motion and are not unknowns.
+    conditions_.template write<Exec>(s, StateColumns<Dim>::VelX, PrescribedField::StartVelocity);
+    conditions_.template write<Exec>(s, StateColumns<Dim>::AccX, PrescribedField::StartAcceleration);
+    conditions_.template write<Exec>(s, StateColumns<Dim>::FreeX, PrescribedField::Zero);
   }
   stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
   if (initialAcceleration && opt_.consistentMass) {
@@ -223,8 +225,10 @@ Teuchos::RCP<const MultiVector> ImplicitNewmark<Shape, Dim>::unknownCoordinates(
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::correctProjection() {
   if (opt_.projectionIterations <= 0) return;
-  projection_.apply(*stateOwned_, StateColumns<Dim>::Mass, StateColumns<Dim>::VelX, ps_, ps_.v, bc_, massCutoff_, opt_.projectionIterations);
-  projection_.apply(*stateOwned_, StateColumns<Dim>::Mass, StateColumns<Dim>::AccX, ps_, ps_.a, bc_, massCutoff_, opt_.projectionIterations);
+  projection_.apply(*stateOwned_, StateColumns<Dim>::Mass, StateColumns<Dim>::VelX, ps_, ps_.v, conditions_,
+                    PrescribedField::StartVelocity, massCutoff_, opt_.projectionIterations);
+  projection_.apply(*stateOwned_, StateColumns<Dim>::Mass, StateColumns<Dim>::AccX, ps_, ps_.a, conditions_,
+                    PrescribedField::StartAcceleration, massCutoff_, opt_.projectionIterations);
 }
 
 template <class Shape, int Dim>
@@ -237,6 +241,8 @@ void ImplicitNewmark<Shape, Dim>::scatterUnknowns(const Vector& u) {
     Kokkos::parallel_for(
         "scatter_unknowns", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
         KOKKOS_LAMBDA(int k) { d(node(k), DisplacementColumns<Dim>::UX + comp(k)) = uv(k, 0); });
+    // The prescribed dofs move by their increment (they are not unknowns).
+    conditions_.template write<Exec>(d, DisplacementColumns<Dim>::UX, PrescribedField::Increment);
   }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
 }
@@ -314,6 +320,45 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
         const double inertia = consistent ? c1 * f(n, ForceColumns<Dim>::MassProductX + d) : m * c1 * uv(k, 0);
         r(k, 0) = inertia - m * (c2 * s(n, StateColumns<Dim>::VelX + d) + s(n, StateColumns<Dim>::AccX + d)) - f(n, ForceColumns<Dim>::ForceX + d) - s(n, StateColumns<Dim>::FextX + d);
       });
+  if (!conditions_.empty()) {  // forceOwned_ now holds the forces at u (recordReactions reuses them)
+    if (lastResidualPoint_.is_null() || lastResidualPoint_->getMap().get() != unknownMap_.get())
+      lastResidualPoint_ = Teuchos::rcp(new Vector(unknownMap_, false));
+    Tpetra::deep_copy(*lastResidualPoint_, u);
+  }
+}
+
+// The reaction of each grid condition: the residual of the converged step at its dofs, the
+// force the condition applies so that its nodes move as prescribed. The forces at u are those of
+// the last residual when it was evaluated at u (NOX's convergence check normally is), else one
+// more residual evaluation provides them.
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::recordReactions(const Vector& u) {
+  if (conditions_.empty()) return;
+  int sameHere = 0;
+  if (!lastResidualPoint_.is_null() && lastResidualPoint_->getMap().get() == u.getMap().get()) {
+    auto a = lastResidualPoint_->getLocalViewHost(Tpetra::Access::ReadOnly);
+    auto b = u.getLocalViewHost(Tpetra::Access::ReadOnly);
+    sameHere = 1;
+    for (size_t k = 0; k < a.extent(0) && sameHere; ++k) sameHere = a(k, 0) == b(k, 0);
+  }
+  int same = 0;
+  Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_MIN, sameHere, Teuchos::outArg(same));
+  if (!same) {
+    Vector R(unknownMap_, false);
+    residual(u, R);
+  }
+  auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto disp = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  const bool consistent = opt_.consistentMass;
+  const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+  using SC = StateColumns<Dim>;
+  using FC = ForceColumns<Dim>;
+  conditions_.template recordReaction<Exec>(KOKKOS_LAMBDA(int n, int d) {
+    const double m = s(n, SC::Mass);
+    const double inertia = consistent ? c1 * f(n, FC::MassProductX + d) : m * c1 * disp(n, DisplacementColumns<Dim>::UX + d);
+    return inertia - m * (c2 * s(n, SC::VelX + d) + s(n, SC::AccX + d)) - f(n, FC::ForceX + d) - s(n, SC::FextX + d);
+  });
 }
 
 // || |P| |u| + |m (4/dt v + a)| + |F_ext| ||_2 over the free dofs (ResidualModel::residualMagnitude):
@@ -527,6 +572,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
   PhaseTimer phase("g2p and stress update");
+  recordReactions(u);
   scatterUnknowns(u);
   // Grid acceleration at t + dt on the free dofs (zero elsewhere).
   {
@@ -542,6 +588,8 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
             d(n, DisplacementColumns<Dim>::DvX + c) = free ? halfDt * (s(n, StateColumns<Dim>::AccX + c) + aNew) : 0.0;
           }
         });
+    conditions_.template write<Exec>(d, DisplacementColumns<Dim>::AnewX, PrescribedField::Acceleration);
+    conditions_.template write<Exec>(d, DisplacementColumns<Dim>::DvX, PrescribedField::VelocityChange);
   }
   if (opt_.fixedParticles) {  // the grid's own Newmark update, kept for the next step
     auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
@@ -556,6 +604,8 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
             k(n, Dim + c) = aNew;
           }
         });
+    conditions_.template write<Exec>(k, 0, PrescribedField::EndVelocity);
+    conditions_.template write<Exec>(k, Dim, PrescribedField::Acceleration);
   }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
   // Stress from the converged displacement (weights at x_p(t)), then the particle update.

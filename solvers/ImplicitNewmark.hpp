@@ -16,7 +16,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleCellPairs.hpp"
-#include "physics/Constraints.hpp"
+#include "physics/GridConditions.hpp"
 #include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
@@ -75,7 +75,7 @@ template <class Shape, int Dim = 2>
 class ImplicitNewmark : public Integrator, public ResidualModel {
  public:
   ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist, const Materials& material,
-                  const NodalConstraints& constraints, const LoadSet& loads, const ImplicitOptions& options);
+                  GridConditions& conditions, const LoadSet& loads, const ImplicitOptions& options);
   ~ImplicitNewmark() override;
 
   // One step of dt, as one Newmark step or, if Newton fails, as 2^k substeps (k <= maxStepHalvings).
@@ -115,6 +115,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   bool solveStep(double t, double dt);
   void stepAdaptive(double t, double dt);
   void finishStep(const Vector& u);      // grid and particle update with the converged u
+  void recordReactions(const Vector& u); // the grid conditions' reactions: the residual at their dofs
   void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
   void correctProjection();              // consistent-mass correction of v and a on the grid
   bool equilibriumAcceleration() const {
@@ -124,7 +125,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   ParticleSet& ps_;
   const GridDistribution& dist_;
   Materials mat_;
-  const NodalConstraints& bc_;
+  GridConditions& conditions_;
   const LoadSet& loads_;
   ImplicitOptions opt_;
   ProjectionCorrection<Shape, Dim> projection_;
@@ -138,6 +139,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   Kokkos::View<int*, DeviceType> freeNode_, freeComp_;
   Teuchos::RCP<const Map> unknownMap_;
   std::vector<GO> freeGids_;
+  Teuchos::RCP<Vector> lastResidualPoint_;  // the u of the last residual (its forces are in forceOwned_)
   mutable Teuchos::RCP<MultiVector> unknownCoords_;  // built on first request for unknownMap_
 
   // The assembled matrix of the current step; its graph (and the overlap matrix and Export

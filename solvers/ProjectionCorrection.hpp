@@ -2,13 +2,13 @@
 // particle field to the grid, f_i = sum_p m_p S_ip f_p / m_i = M_L^-1 p, smooths the field by
 // M_L^-1 M_C every step: for a wave of number k on cells of size h it scales the field by about
 // 1 - (kh)^2/6 (explicit: twice the lumped-mass dispersion again). Each Jacobi iteration
-//   p += r,  r = p - M_C (p / m)   (on owned nodes; constrained components of p / m zeroed)
+//   p += r,  r = p - M_C (p / m)   (on owned nodes; prescribed components of p / m take their values)
 // squares that factor's deviation from 1.
 #pragma once
 
 #include "core/GridDistribution.hpp"
 #include "core/kernels/ParticleToGrid.hpp"
-#include "physics/Constraints.hpp"
+#include "physics/GridConditions.hpp"
 
 namespace impm {
 
@@ -24,10 +24,11 @@ class ProjectionCorrection {
         residualGhosted_(Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), Dim))) {}
 
   // Corrects columns momCol.. (Dim of them) of `owned` (the particle sums m f) in place, with the
-  // node masses in massCol; `particleField` is f_p (ps.v or ps.a).
+  // node masses in massCol; `particleField` is f_p (ps.v or ps.a), `prescribed` its value at the
+  // grid conditions' dofs.
   void apply(MultiVector& owned, int massCol, int momCol, const ParticleSet& ps,
-             const ParticleSet::Vec& particleField, const NodalConstraints& bc, double massCutoff,
-             int iterations) const {
+             const ParticleSet::Vec& particleField, const GridConditions& conditions, PrescribedField prescribed,
+             double massCutoff, int iterations) const {
     for (int it = 0; it < iterations; ++it) {
       {
         auto s = owned.getLocalViewDevice(Tpetra::Access::ReadOnly);
@@ -38,7 +39,7 @@ class ProjectionCorrection {
               const double m = s(n, massCol);
               for (int d = 0; d < Dim; ++d) f(n, d) = m > cutoff ? s(n, momCol + d) / m : 0.0;
             });
-        bc.template apply<Exec>(f, 0);
+        conditions.template write<Exec>(f, 0, prescribed);
       }
       fieldGhosted_->doImport(*fieldOwned_, *dist_.importer(), Tpetra::INSERT);
       residualGhosted_->putScalar(0.0);

@@ -20,7 +20,7 @@
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
 #include "physics/Body.hpp"
-#include "physics/Constraints.hpp"
+#include "physics/GridConditions.hpp"
 #include "physics/ExactReference.hpp"
 #include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
@@ -137,7 +137,7 @@ class Simulation {
   std::vector<LoadSpec> loadSpecs_;
   std::vector<long long> loadParticleIds_;
   ParticleSet particles_;
-  NodalConstraints constraints_;
+  GridConditions constraints_;
   LoadSet loads_;
   std::vector<Monitor> monitors_;
   std::unique_ptr<Integrator> integrator_;

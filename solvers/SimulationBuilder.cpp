@@ -198,7 +198,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   } catch (const std::invalid_argument& e) {
     throw DeckError(e.what());
   }
-  constraints_ = NodalConstraints(cspecs, *dist_);
+  constraints_ = GridConditions(cspecs, *dist_);
   constraintSpecs_ = cspecs;  // rebuilt for a new rank grid (load balance)
 
   // A manufactured solution (Exact Solution/Type) drives the initial state and a load: read it first.

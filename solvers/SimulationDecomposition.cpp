@@ -25,7 +25,7 @@ void Simulation::adoptRankGrid(const RankGrid& ranks, bool moveParticles) {
   integrator_.reset();             // it refers to the maps, constraints and loads replaced below
   dist_ = std::make_unique<GridDistribution>(grid_, comm_, dist_->ghostWidth(), ranks);
   if (moveParticles) sendParticlesToOwners(particles_, *dist_);
-  constraints_ = NodalConstraints(constraintSpecs_, *dist_);
+  constraints_ = GridConditions(constraintSpecs_, *dist_);
   loads_ = LoadSet(loadSpecs_, *dist_, loadParticleIds_, (int)bodies_.size(), shape_ == "FE Q9");
   loads_.locateParticles(particles_);
   buildIntegrator();

@@ -16,7 +16,7 @@
 #include <utility>
 
 #include "core/InputDeck.hpp"
-#include "physics/Constraints.hpp"
+#include "physics/GridConditions.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {

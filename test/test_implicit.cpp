@@ -76,7 +76,7 @@ double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teucho
         for (int j = 0; j < 2; ++j) F(p, i, j) = domainF[2 * i + j];
     Kokkos::deep_copy(ps.F, F);
   }
-  NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
+  GridConditions bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
   LoadSet loads({}, dist, {}, 1);
   opt.solverParams = Teuchos::rcp(new ParameterList(NewtonSolver::validParameters()->name()));
   ImplicitNewmark<Shape> model(ps, dist, mat, bc, loads, opt);
@@ -178,7 +178,7 @@ std::array<double, 4> j2JacobianMismatch(double amplitude, Teuchos::FancyOStream
   ParticleSet ps = createParticles(body, plastic, dist), psElastic = createParticles(body, elastic, dist);
   ps.allocateHistory();
   psElastic.allocateHistory();
-  NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
+  GridConditions bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
   LoadSet loads({}, dist, {}, 1);
   ImplicitOptions opt;
   opt.solverParams = Teuchos::rcp(new ParameterList(NewtonSolver::validParameters()->name()));
@@ -284,7 +284,7 @@ TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
     auto v = Kokkos::create_mirror_view(ps.v);
     for (int p = 0; p < ps.count; ++p) { v(p, 0) = 0.1 * std::sin(M_PI * x(p, 0) / (2 * 0.03)); v(p, 1) = 0.0; }
     Kokkos::deep_copy(ps.v, v);
-    NodalConstraints bc({ConstraintSpec::onFace("left", body, "x-", true, false),
+    GridConditions bc({ConstraintSpec::onFace("left", body, "x-", true, false),
                          ConstraintSpec::atNode("pin", 0, 0, false, true)}, dist);
     LoadSet loads({}, dist, {}, 1);
     ImplicitOptions opt;

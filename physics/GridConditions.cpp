@@ -1,0 +1,102 @@
+#include "physics/GridConditions.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+
+#include <cmath>
+#include <set>
+#include <utility>
+
+namespace impm {
+
+namespace {
+// The nodes (global i, j, k) a spec names.
+std::vector<NodeIndex> nodesOf(const ConstraintSpec& s, const StructuredGrid& g) {
+  if (s.where == "Face") return faceNodes(g, s.body, s.face);
+  if (s.where == "Box") return boxNodes(g, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
+  return {{(int)std::lround((s.x - g.x0) / g.hx), (int)std::lround((s.y - g.y0) / g.hy),
+           g.dim == 3 ? (int)std::lround((s.z - g.z0) / g.hz) : 0}};
+}
+}  // namespace
+
+GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist)
+    : dim_(dist.grid().dim), specs_(specs) {
+  const StructuredGrid& g = dist.grid();
+  const LocalNodeIndexer& owned = dist.ownedIndexer();
+  std::vector<int> nodes, comps, conds;
+  std::set<std::pair<int, int>> taken;  // (owned node, component): a dof belongs to its first condition
+  for (size_t c = 0; c < specs.size(); ++c) {
+    const ConstraintSpec& s = specs[c];
+    names_.push_back(s.name);
+    prescribed_.push_back({s.fixes(0), s.fixes(1), g.dim == 3 && s.fixes(2)});
+    for (auto [i, j, k] : nodesOf(s, g)) {
+      if (!owned.contains(i, j, k)) continue;
+      for (int d = 0; d < g.dim; ++d)
+        if (s.fixes(d) && taken.insert({owned(i, j, k), d}).second) {
+          nodes.push_back(owned(i, j, k));
+          comps.push_back(d);
+          conds.push_back((int)c);
+        }
+    }
+  }
+  auto toDevice = [](const std::vector<int>& v, const std::string& label) {
+    Kokkos::View<int*, DeviceType> out(label, v.size());
+    auto h = Kokkos::create_mirror_view(out);
+    for (size_t k = 0; k < v.size(); ++k) h(k) = v[k];
+    Kokkos::deep_copy(out, h);
+    return out;
+  };
+  node_ = toDevice(nodes, "condition_nodes");
+  comp_ = toDevice(comps, "condition_components");
+  cond_ = toDevice(conds, "condition_of_dof");
+  values_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("condition_values", specs.size(), int(PrescribedField::Count) * 3);
+  dofForce_ = Kokkos::View<double*, DeviceType>("condition_dof_force", nodes.size());
+  localReaction_.assign(3 * specs.size(), 0.0);
+}
+
+void GridConditions::setStep(double t, double dt) {
+  auto h = Kokkos::create_mirror_view(values_);
+  for (size_t c = 0; c < specs_.size(); ++c) {
+    const ConstraintSpec& s = specs_[c];
+    for (int d = 0; d < 3; ++d) {
+      double field[int(PrescribedField::Count)] = {};
+      if (s.motion == ConstraintSpec::Motion::Velocity && s.value[d] != 0.0) {
+        auto v = [&](double tau) { return s.value[d] * s.time(tau); };
+        const double start = v(t), end = v(t + dt), before = v(t - dt);
+        field[int(PrescribedField::Increment)] = 0.5 * dt * (start + end);
+        field[int(PrescribedField::StartVelocity)] = start;
+        field[int(PrescribedField::EndVelocity)] = end;
+        field[int(PrescribedField::StartAcceleration)] = (start - before) / dt;
+      } else if (s.motion == ConstraintSpec::Motion::Displacement && s.value[d] != 0.0) {
+        auto u = [&](double tau) { return s.value[d] * s.time(tau); };
+        const double u0 = u(t), u1 = u(t + dt), um1 = u(t - dt), um2 = u(t - 2 * dt);
+        const double start = (u0 - um1) / dt, end = (u1 - u0) / dt;
+        field[int(PrescribedField::Increment)] = u1 - u0;
+        field[int(PrescribedField::StartVelocity)] = start;
+        field[int(PrescribedField::EndVelocity)] = end;
+        field[int(PrescribedField::StartAcceleration)] = (start - (um1 - um2) / dt) / dt;
+      }
+      field[int(PrescribedField::VelocityChange)] =
+          field[int(PrescribedField::EndVelocity)] - field[int(PrescribedField::StartVelocity)];
+      field[int(PrescribedField::Acceleration)] = field[int(PrescribedField::VelocityChange)] / dt;
+      for (int f = 0; f < int(PrescribedField::Count); ++f) h(c, f * 3 + d) = field[f];
+    }
+  }
+  Kokkos::deep_copy(values_, h);
+}
+
+void GridConditions::sumReactions() {
+  auto force = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dofForce_);
+  auto comp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), comp_);
+  auto cond = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), cond_);
+  std::fill(localReaction_.begin(), localReaction_.end(), 0.0);
+  for (size_t k = 0; k < force.extent(0); ++k) localReaction_[3 * cond(k) + comp(k)] += force(k);
+}
+
+std::vector<double> GridConditions::reactions(const Teuchos::Comm<int>& comm) const {
+  std::vector<double> global(localReaction_.size(), 0.0);
+  if (!global.empty())
+    Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, (int)global.size(), localReaction_.data(), global.data());
+  return global;
+}
+
+}  // namespace impm
