@@ -33,6 +33,18 @@ void choice(ParameterList& pl, const std::string& key, const std::string& def,
   pl.set(key, def, doc, rcp(new Teuchos::StringValidator(Teuchos::Array<std::string>(values.begin(), values.end()))));
 }
 
+// The time-function keys of a load or a prescribed motion (physics/TimeFunction.hpp).
+void timeFunctionKeys(ParameterList& pl, const std::string& def, const std::string& what) {
+  choice(pl, "Time Function", def, {"Step", "Sine", "Constant", "Ramp", "Table"},
+         what + ". Step: H(t - Start Time); Sine: sin(omega t); Constant: 1; Ramp: min(max(t - Start Time, 0) / Ramp "
+         "Time, 1), for quasi-static loading; Table: linear between the (t, value) pairs of Table, the end values held "
+         "outside them");
+  number(pl, "Ramp Time", 0.0, "duration of the rise of a Ramp (s)");
+  number(pl, "Angular Frequency", 0.0, "omega of the Sine time function (rad/s)");
+  number(pl, "Start Time", 0.0, "time at which a Step comes on, or a Ramp starts rising (s)");
+  pl.set("Table", "", "Time Function = Table: 't0 v0; t1 v1; ...', the times increasing (s)");
+}
+
 const char* const kParticlePlacementDoc =
     "where the lattice fill puts the Particles Per Cell in a cell, per direction, all of equal volume (the cell's over "
     "the particles per cell; total mass rho x the body's volume). Uniform: the centres of n equal sub-cells (the "
@@ -180,7 +192,16 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
     number(*pl, "Z Min", -1.0e300, "box (Where = Box; 3D; default: the whole grid in z)");
     number(*pl, "Z Max", 1.0e300, "box (Where = Box; 3D; default: the whole grid in z)");
     choice(*pl, "Components", "all", {"all", "x", "y", "z", "xy", "xz", "yz", "xyz"},
-           "displacement components fixed to zero (all: every component of the grid's dimension; z: 3D only)");
+           "the components it prescribes (all: every component of the grid's dimension; z: 3D only)");
+    choice(*pl, "Motion", "Fixed", {"Fixed", "Velocity", "Displacement"},
+           "Fixed: the components stay at rest; Velocity: they move at Value X/Y/Z (m/s) times the time function; "
+           "Displacement: they are displaced by Value X/Y/Z (m) times the time function from where they are at t = 0. "
+           "The force the condition applies to the grid is in history.csv (<name>_reaction_<x|y|z>) and summary.yaml "
+           "(Reactions)");
+    number(*pl, "Value X", 0.0, "Motion = Velocity: velocity (m/s); Displacement: displacement (m); x");
+    number(*pl, "Value Y", 0.0, "the same, y");
+    number(*pl, "Value Z", 0.0, "the same, z (3D)");
+    timeFunctionKeys(*pl, "Constant", "the factor of Value X/Y/Z over time");
   } else if (collection == "Loads") {
     choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force", "Body Force", "Manufactured Body Force"},
            "uniform traction on a face of a rectangular body (consistent nodal forces), a force on the grid "
@@ -200,12 +221,7 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
     number(*pl, "Force X", 0.0, "total force, x component (N)");
     number(*pl, "Force Y", 0.0, "total force, y component (N)");
     number(*pl, "Force Z", 0.0, "total force, z component (N; 3D)");
-    choice(*pl, "Time Function", "Step", {"Step", "Sine", "Constant", "Ramp"},
-           "Step: F H(t - Start Time); Sine: F sin(omega t); Constant: F; Ramp: F min(max(t - Start Time, 0) / "
-           "Ramp Time, 1), for quasi-static loading (the same factor scales a Body Force)");
-    number(*pl, "Ramp Time", 0.0, "duration of the rise of a Ramp load (s)");
-    number(*pl, "Angular Frequency", 0.0, "omega of the Sine time function (rad/s)");
-    number(*pl, "Start Time", 0.0, "time at which a Step load comes on (s)");
+    timeFunctionKeys(*pl, "Step", "the factor of the force over time (the same factor scales a Body Force)");
   } else if (collection == "Monitors") {
     choice(*pl, "Quantity", "Displacement X",
            {"Displacement X", "Displacement Y", "Displacement Z", "Velocity X", "Velocity Y", "Velocity Z", "Stress XX",

@@ -13,9 +13,20 @@ namespace impm {
 
 History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, const Materials& materials,
                  const ExactReference* exact, bool energyAndMomentum,
-                 const Teuchos::RCP<const Teuchos::Comm<int>>& comm, double firstTime)
+                 const Teuchos::RCP<const Teuchos::Comm<int>>& comm, double firstTime, const GridConditions* conditions)
     : monitors_(monitors), particles_(particles), materials_(materials), exact_(exact), energy_(energyAndMomentum),
-      comm_(comm) {
+      comm_(comm), conditions_(conditions) {
+  if (conditions_) {
+    for (size_t c = 0; c < conditions_->names().size(); ++c) {
+      std::string name = conditions_->names()[c];
+      std::replace(name.begin(), name.end(), ' ', '_');
+      for (int d = 0; d < particles_.dim; ++d)
+        if (conditions_->prescribed()[c][d]) {
+          reactionColumns_.push_back(name + "_reaction_" + char('x' + d));
+          reactionIndex_.push_back(int(3 * c + d));
+        }
+    }
+  }
   for (const auto& m : monitors_) {
     const double X[3] = {m.x0, m.y0, m.z0};
     withExact_.push_back(exact_ && !std::isnan(exact_->valueAt(m.quantity, X, firstTime)));
@@ -35,6 +46,7 @@ void History::open(const std::string& path, int digits) {
   }
   if (energy_) csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y" << (particles_.dim == 3 ? ",momentum_z" : "");
   if (field_) csv_ << ",displacement_error_rms,displacement_error_max";
+  for (const auto& c : reactionColumns_) csv_ << ',' << c;
   csv_ << '\n' << std::setprecision(digits);
 }
 
@@ -94,6 +106,11 @@ void History::record(double t, RunResult& r) {
     r.fieldErrorRms.push_back(rms);
     r.fieldErrorMax.push_back(max);
   }
+  if (!reactionColumns_.empty()) {
+    const std::vector<double> reaction = conditions_->reactions(*comm_);
+    r.reactionColumns = reactionColumns_;
+    for (size_t k = 0; k < reactionColumns_.size(); ++k) r.reactions[reactionColumns_[k]].push_back(reaction[reactionIndex_[k]]);
+  }
   if (comm_->getRank() == 0) writeRow(r, r.time.size() - 1);
 }
 
@@ -110,6 +127,7 @@ void History::writeRow(const RunResult& r, size_t i) {
     if (particles_.dim == 3) csv_ << ',' << r.momentumZ[i];
   }
   if (field_) csv_ << ',' << r.fieldErrorRms[i] << ',' << r.fieldErrorMax[i];
+  for (const auto& c : reactionColumns_) csv_ << ',' << r.reactions.at(c)[i];
   csv_ << '\n';
 }
 
@@ -130,6 +148,7 @@ void History::saveState(const RunResult& r, NamedArrays& state) const {
   state["history field error rms"] = r.fieldErrorRms;
   state["history field error max"] = r.fieldErrorMax;
   state["history momentum scale"] = {momentumScale_};
+  for (const auto& c : reactionColumns_) state["history reaction " + c] = r.reactions.at(c);
 }
 
 void History::restoreState(const NamedArrays& state, RunResult& r) {
@@ -145,6 +164,12 @@ void History::restoreState(const NamedArrays& state, RunResult& r) {
   r.fieldErrorRms = state.at("history field error rms");
   r.fieldErrorMax = state.at("history field error max");
   momentumScale_ = state.at("history momentum scale").at(0);
+  r.reactionColumns = reactionColumns_;
+  for (const auto& c : reactionColumns_) {
+    const auto it = state.find("history reaction " + c);
+    // (A checkpoint written before the reactions were recorded has none: zeros, one per row.)
+    r.reactions[c] = it != state.end() ? it->second : std::vector<double>(r.time.size(), 0.0);
+  }
 }
 
 std::pair<double, double> History::displacementFieldError(double t) const {

@@ -14,6 +14,7 @@
 
 #include "core/ParticleSet.hpp"
 #include "physics/ExactReference.hpp"
+#include "physics/GridConditions.hpp"
 #include "physics/Materials.hpp"
 #include "solvers/Integrator.hpp"
 
@@ -58,6 +59,10 @@ struct RunResult {
   std::map<std::string, std::vector<double>> computed, exact;
   // With Output/Energy And Momentum: per recorded time, and the drifts of summary.yaml.
   std::vector<double> kinetic, strain, momentumX, momentumY, momentumZ;
+  // The grid conditions' reactions (the force each applies to the grid, per prescribed
+  // component), per recorded time, by history.csv column (<condition>_reaction_<x|y|z>, in order).
+  std::vector<std::string> reactionColumns;
+  std::map<std::string, std::vector<double>> reactions;
   double energyRelativeDrift = 0, energyMaxRelativeDeviation = 0, momentumMaxRelativeChange = 0;
   // With an exact solution that knows the whole displacement field: per recorded time, the
   // volume-weighted RMS sqrt(sum V0 |u_p - u(X_p, t)|^2 / sum V0) and the largest particle error
@@ -69,11 +74,11 @@ struct RunResult {
 
 class History {
  public:
-  // `exact` may be null. `firstTime` is a time at which the exact solution is evaluated to find
-  // which monitors it has (NaN: none).
+  // `exact` and `conditions` may be null. `firstTime` is a time at which the exact solution is
+  // evaluated to find which monitors it has (NaN: none).
   History(std::vector<Monitor>& monitors, const ParticleSet& particles, const Materials& materials,
           const ExactReference* exact, bool energyAndMomentum, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-          double firstTime);
+          double firstTime, const GridConditions* conditions = nullptr);
 
   // Rank 0 writes the header of `path`, values with `digits` significant digits; collective.
   void open(const std::string& path, int digits = 10);
@@ -107,6 +112,9 @@ class History {
   bool field_ = false;  // the exact solution knows the whole displacement field
   std::ofstream csv_;
   double momentumScale_ = 0;  // sum m |v| at the first row
+  const GridConditions* conditions_ = nullptr;
+  std::vector<std::string> reactionColumns_;
+  std::vector<int> reactionIndex_;  // per column: condition x 3 + component in GridConditions::reactions
 };
 
 }  // namespace impm

@@ -254,7 +254,7 @@ RunResult Simulation::run(std::ostream& log) {
   r.steps = steps_;
   noteLoadImbalance(r);
 
-  History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_);
+  History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_, &constraints_);
   rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv", out.get<int>("History Digits")); });
 
   PvdIndex pvd(outputDir_ + "/particles.pvd", comm_->getSize());

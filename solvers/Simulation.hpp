@@ -71,6 +71,12 @@ class Simulation {
  private:
   void buildMaterialsAndBodies();
   std::vector<ConstraintSpec> buildConstraints();
+  TimeFunction timeFunctionOf(const Teuchos::ParameterList& list, const std::string& key) const;
+  void readMotion(const Teuchos::ParameterList& list, const std::string& key, ConstraintSpec& spec) const;
+  void checkConditionOverlaps(const std::vector<ConstraintSpec>& specs) const;
+  // A moving condition whose nodes no particle reaches moves nothing: refused (after the particles exist).
+  void checkConditionsReached(const std::vector<ConstraintSpec>& specs) const;
+  long long particlesReaching(const Point& lo, const Point& hi) const;
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
   void noteLoadImbalance(RunResult& r) const;

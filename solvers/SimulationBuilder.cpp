@@ -198,6 +198,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   } catch (const std::invalid_argument& e) {
     throw DeckError(e.what());
   }
+  checkConditionsReached(cspecs);
   constraints_ = GridConditions(cspecs, *dist_);
   constraintSpecs_ = cspecs;  // rebuilt for a new rank grid (load balance)
 
@@ -532,9 +533,40 @@ void Simulation::checkProblemSize(bool implicit) const {
 }
 
 void Simulation::checkNodeReached(const std::string& key, const Point& point) const {
-  double node[3] = {0, 0, 0};
+  Point node = {0, 0, 0};
   for (int d = 0; d < grid_.dim; ++d)
     node[d] = grid_.origin(d) + grid_.spacing(d) * std::lround((point[d] - grid_.origin(d)) / grid_.spacing(d));
+  if (particlesReaching(node, node) == 0)
+    throw DeckError("'" + key + "/Type' = Node Force at " + describePoint(point) +
+                    ": no particle reaches this grid node at t = 0, so the force would act on no mass; put it on a node of a "
+                    "body, or use a Particle Force");
+}
+
+void Simulation::checkConditionsReached(const std::vector<ConstraintSpec>& specs) const {
+  for (const ConstraintSpec& s : specs) {
+    if (s.motion == ConstraintSpec::Motion::Fixed) continue;
+    std::vector<NodeIndex> nodes;
+    if (s.where == "Face") nodes = faceNodes(grid_, s.body, s.face);
+    else if (s.where == "Box") nodes = boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
+    else nodes.push_back({(int)std::lround((s.x - grid_.x0) / grid_.hx), (int)std::lround((s.y - grid_.y0) / grid_.hy),
+                          grid_.dim == 3 ? (int)std::lround((s.z - grid_.z0) / grid_.hz) : 0});
+    // (Face and box node sets are boxes of nodes: a particle reaching their bounding box reaches one of them.)
+    Point lo = {1e300, 1e300, 1e300}, hi = {-1e300, -1e300, -1e300};
+    for (const auto& ijk : nodes)
+      for (int d = 0; d < grid_.dim; ++d) {
+        const double x = grid_.origin(d) + grid_.spacing(d) * ijk[d];
+        lo[d] = std::min(lo[d], x);
+        hi[d] = std::max(hi[d], x);
+      }
+    if (particlesReaching(lo, hi) == 0)
+      throw DeckError("'Constraints/" + s.name + "/Motion' = " +
+                      (s.motion == ConstraintSpec::Motion::Velocity ? "Velocity" : "Displacement") +
+                      ": no particle reaches its grid nodes at t = 0, so it would move nothing; put it where a body is");
+  }
+}
+
+// Particles (over all ranks) whose shape functions reach a grid node in [lo, hi] at t = 0.
+long long Simulation::particlesReaching(const Point& lo, const Point& hi) const {
   // A node's shape function reaches one cell (FE Q9: one element of two cells; quadratic
   // B-splines: 1.5 cells; cubic: 2), plus the particle's half size with GIMP.
   const double span = shape_ == "FE Q9" || shape_ == "B-Spline Cubic" ? 2.0 : shape_ == "B-Spline Quadratic" ? 1.5 : 1.0;
@@ -543,22 +575,22 @@ void Simulation::checkNodeReached(const std::string& key, const Point& point) co
   auto px = particles_.x;
   auto hs = particles_.halfSize;
   const int dim = grid_.dim;
-  const double n0 = node[0], n1 = node[1], n2 = node[2], r0 = reach[0], r1 = reach[1], r2 = reach[2];
-  int local = 0;
+  const double l0 = lo[0], l1 = lo[1], l2 = lo[2], h0 = hi[0], h1 = hi[1], h2 = hi[2];
+  const double r0 = reach[0], r1 = reach[1], r2 = reach[2];
+  // Distance from x to the interval [a, b] along one direction.
+  auto gap = [](double x, double a, double b) { return x < a ? a - x : x > b ? x - b : 0.0; };
+  long long local = 0;
   Kokkos::parallel_reduce(
-      "node_force_reached", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
-      KOKKOS_LAMBDA(int p, int& n) {
-        bool near = std::abs(px(p, 0) - n0) < r0 + domain * hs(p, 0) && std::abs(px(p, 1) - n1) < r1 + domain * hs(p, 1);
-        if (dim == 3) near = near && std::abs(px(p, 2) - n2) < r2 + domain * hs(p, 2);
+      "nodes_reached", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count),
+      KOKKOS_LAMBDA(int p, long long& n) {
+        bool near = gap(px(p, 0), l0, h0) < r0 + domain * hs(p, 0) && gap(px(p, 1), l1, h1) < r1 + domain * hs(p, 1);
+        if (dim == 3) near = near && gap(px(p, 2), l2, h2) < r2 + domain * hs(p, 2);
         if (near) ++n;
       },
       local);
-  int reached = 0;
+  long long reached = 0;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, local, Teuchos::outArg(reached));
-  if (reached == 0)
-    throw DeckError("'" + key + "/Type' = Node Force at " + describePoint(point) +
-                    ": no particle reaches this grid node at t = 0, so the force would act on no mass; put it on a node of a "
-                    "body, or use a Particle Force");
+  return reached;
 }
 
 std::string Simulation::describePoint(const Point& p) const {
@@ -577,6 +609,78 @@ void Simulation::checkNearParticle(const std::string& what, const Point& p, cons
 
 Point Simulation::pointOf(const ParameterList& list) const {
   return {list.get<double>("X"), list.get<double>("Y"), grid_.dim == 3 ? list.get<double>("Z") : 0.0};
+}
+
+TimeFunction Simulation::timeFunctionOf(const ParameterList& l, const std::string& key) const {
+  TimeFunction f;
+  const std::string tf = l.get<std::string>("Time Function");
+  f.kind = tf == "Sine"       ? TimeFunction::Kind::Sine
+           : tf == "Constant" ? TimeFunction::Kind::Constant
+           : tf == "Ramp"     ? TimeFunction::Kind::Ramp
+           : tf == "Table"    ? TimeFunction::Kind::Table
+                              : TimeFunction::Kind::Step;
+  f.rampTime = l.get<double>("Ramp Time");
+  if (f.kind == TimeFunction::Kind::Ramp && !(f.rampTime > 0))
+    throw DeckError("'" + key + "/Ramp Time' must be positive for a Ramp, got " + formatNumber(f.rampTime));
+  f.omega = l.get<double>("Angular Frequency");
+  f.startTime = l.get<double>("Start Time");
+  if (f.kind == TimeFunction::Kind::Sine && !(f.omega > 0))
+    throw DeckError("'" + key + "/Angular Frequency' must be positive for a Sine");
+  const std::string table = l.get<std::string>("Table");
+  if (f.kind == TimeFunction::Kind::Table) {
+    try {
+      f.table = parseTimeTable(table);
+    } catch (const std::invalid_argument& e) {
+      throw DeckError("'" + key + "/Table' = '" + table + "': " + e.what());
+    }
+  } else if (!table.empty()) {
+    throw DeckError("'" + key + "/Table' is set but 'Time Function' is " + tf + " (Table needs Time Function = Table)");
+  }
+  return f;
+}
+
+// The motion of a constraint: Fixed (at rest), or a velocity or displacement of the prescribed
+// components times a time function.
+void Simulation::readMotion(const ParameterList& c, const std::string& key, ConstraintSpec& s) const {
+  const std::string motion = c.get<std::string>("Motion");
+  s.motion = motion == "Velocity"       ? ConstraintSpec::Motion::Velocity
+             : motion == "Displacement" ? ConstraintSpec::Motion::Displacement
+                                        : ConstraintSpec::Motion::Fixed;
+  const char* names[3] = {"Value X", "Value Y", "Value Z"};
+  for (int d = 0; d < 3; ++d) {
+    s.value[d] = c.get<double>(names[d]);
+    if (s.value[d] == 0.0) continue;
+    if (s.motion == ConstraintSpec::Motion::Fixed)
+      throw DeckError("'" + key + "/" + names[d] + "' = " + formatNumber(s.value[d]) +
+                      " but 'Motion' is Fixed (a moving condition needs Motion = Velocity or Displacement)");
+    if (!s.fixes(d) || d >= grid_.dim)
+      throw DeckError("'" + key + "/" + names[d] + "' = " + formatNumber(s.value[d]) + " but 'Components' = " +
+                      c.get<std::string>("Components") + " does not prescribe " + char('x' + d));
+  }
+  s.time = timeFunctionOf(c, key);
+}
+
+// Two conditions that name the same dof must prescribe the same motion there (the first keeps it).
+void Simulation::checkConditionOverlaps(const std::vector<ConstraintSpec>& specs) const {
+  std::map<std::array<int, 4>, size_t> owner;  // (i, j, k, component) -> first condition
+  for (size_t c = 0; c < specs.size(); ++c) {
+    const ConstraintSpec& s = specs[c];
+    std::vector<NodeIndex> nodes;
+    if (s.where == "Face") nodes = faceNodes(grid_, s.body, s.face);
+    else if (s.where == "Box") nodes = boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
+    else nodes.push_back({(int)std::lround((s.x - grid_.x0) / grid_.hx), (int)std::lround((s.y - grid_.y0) / grid_.hy),
+                          grid_.dim == 3 ? (int)std::lround((s.z - grid_.z0) / grid_.hz) : 0});
+    for (const auto& [i, j, k] : nodes)
+      for (int d = 0; d < grid_.dim; ++d) {
+        if (!s.fixes(d)) continue;
+        const auto [it, inserted] = owner.insert({{i, j, k, d}, c});
+        if (inserted || specs[it->second].sameMotion(s, d)) continue;
+        const StructuredGrid& g = grid_;
+        throw DeckError("'Constraints/" + specs[it->second].name + "' and 'Constraints/" + s.name +
+                        "' prescribe different motions of component " + char('x' + d) + " of the grid node at " +
+                        describePoint({g.nodeX(i), g.nodeY(j), g.dim == 3 ? g.nodeZ(k) : 0.0}));
+      }
+  }
 }
 
 std::vector<ConstraintSpec> Simulation::buildConstraints() {
@@ -616,8 +720,10 @@ std::vector<ConstraintSpec> Simulation::buildConstraints() {
         throw DeckError("'" + key + "': the box [" + formatNumber(s.xMin) + ", " + formatNumber(s.xMax) + "] x [" + formatNumber(s.yMin) + ", " +
                         formatNumber(s.yMax) + "] holds no grid node");
     }
+    readMotion(c, key, s);
     specs.push_back(s);
   }
+  checkConditionOverlaps(specs);
   return specs;
 }
 
@@ -641,18 +747,7 @@ std::vector<LoadSpec> Simulation::buildLoads() {
       throw DeckError("'" + key + "/" + (s.forceZ != 0.0 ? "Force Z" : "Acceleration Z") + "' is not zero: z components need 'Grid/Dimension' = 3");
     if (grid_.dim == 2 && s.type == "Face Traction" && s.face[0] == 'z')
       throw DeckError("'" + key + "/Face' = " + s.face + " needs 'Grid/Dimension' = 3");
-    const std::string tf = l.get<std::string>("Time Function");
-    s.time.kind = tf == "Sine"       ? TimeFunction::Kind::Sine
-                  : tf == "Constant" ? TimeFunction::Kind::Constant
-                  : tf == "Ramp"     ? TimeFunction::Kind::Ramp
-                                     : TimeFunction::Kind::Step;
-    s.time.rampTime = l.get<double>("Ramp Time");
-    if (s.time.kind == TimeFunction::Kind::Ramp && !(s.time.rampTime > 0))
-      throw DeckError("'" + key + "/Ramp Time' must be positive for a Ramp load, got " + formatNumber(s.time.rampTime));
-    s.time.omega = l.get<double>("Angular Frequency");
-    s.time.startTime = l.get<double>("Start Time");
-    if (s.time.kind == TimeFunction::Kind::Sine && !(s.time.omega > 0))
-      throw DeckError("'" + key + "/Angular Frequency' must be positive for a Sine load");
+    s.time = timeFunctionOf(l, key);
     if (s.type == "Node Force") {
       checkGridNode(key, s.x, s.y, s.z);
       checkNodeReached(key, point);

@@ -68,6 +68,19 @@ void Simulation::writeSummary(const RunResult& r) const {
       f.set("Peak Max", r.fieldErrorMaxPeak);
     }
   }
+  if (!r.reactionColumns.empty() && !r.time.empty()) {
+    // The force each grid condition applied to the grid at the last recorded step, and its
+    // largest magnitude over the run (per prescribed component).
+    ParameterList& reactions = s.sublist("Reactions");
+    for (const std::string& column : r.reactionColumns) {
+      const std::vector<double>& values = r.reactions.at(column);
+      ParameterList& c = reactions.sublist(column);
+      c.set("Final", values.back());
+      double peak = 0;
+      for (double v : values) peak = std::abs(v) > std::abs(peak) ? v : peak;
+      c.set("Peak", peak);
+    }
+  }
   if (energyHistory_ && !r.time.empty()) {
     ParameterList& e = s.sublist("Energy");
     e.set("Initial Total", r.kinetic.front() + r.strain.front());
