@@ -42,7 +42,7 @@ void timeFunctionKeys(ParameterList& pl, const std::string& def, const std::stri
   number(pl, "Ramp Time", 0.0, "duration of the rise of a Ramp (s)");
   number(pl, "Angular Frequency", 0.0, "omega of the Sine time function (rad/s)");
   number(pl, "Start Time", 0.0, "time at which a Step comes on, or a Ramp starts rising (s)");
-  pl.set("Table", "", "Time Function = Table: 't0 v0; t1 v1; ...', the times increasing (s)");
+  pl.set("Table", "", "Time Function = Table: 't0, v0; t1, v1; ...' (as Bodies/Vertices), the times increasing (s)");
 }
 
 const char* const kParticlePlacementDoc =

@@ -40,7 +40,7 @@ std::vector<std::pair<double, double>> parseTimeTable(const std::string& text) {
     double t, v;
     std::string extra;
     if (!(in >> t >> v) || (in >> extra))
-      throw std::invalid_argument("'" + pair + "' is not a pair 't value'");
+      throw std::invalid_argument("'" + pair + "' is not a pair 't, value'");
     if (!rows.empty() && !(t > rows.back().first)) {
       std::ostringstream msg;
       msg << "the times must increase, but " << t << " follows " << rows.back().first;

@@ -22,7 +22,7 @@ struct TimeFunction {
   }
 };
 
-// Reads "t0 v0; t1 v1; ..." (pairs separated by ';' or new lines, numbers by blanks or ','). Throws
+// Reads "t0, v0; t1, v1; ..." (pairs separated by ";" or new lines, the two numbers by "," or blanks). Throws
 // std::invalid_argument naming the problem: a pair that is not two numbers, no pair, or times that
 // do not increase.
 std::vector<std::pair<double, double>> parseTimeTable(const std::string& text);

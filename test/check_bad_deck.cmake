@@ -116,6 +116,25 @@ expect_failure(output_is_file "Name:" "Name:" "exists and is not a directory" OU
 set(good "${good_disks}")
 expect_failure(void_node_force "  Monitors:" "  Loads:\n    corner push:\n      Type: Node Force\n      X: 0.95\n      Y: 0.05\n      Force X: 1.0\n  Monitors:"
                "'Loads/corner push/Type' = Node Force at (0.95, 0.05): no particle reaches this grid node" NP 2)
+# Prescribed motion (physics/GridConditions.hpp): a moving condition no particle reaches, two
+# conditions with different motions of one dof, a time table whose times do not increase, a
+# value on a component the condition does not prescribe, and a value with Motion = Fixed. (The
+# script reads stderr with ";" turned into ",".)
+expect_failure(void_prescribed_motion "  Monitors:" "  Constraints:\n    corner grip:\n      Where: Node\n      X: 0.95\n      Y: 0.05\n      Motion: Velocity\n      Value X: 1.0\n  Monitors:"
+               "'Constraints/corner grip/Motion' = Velocity: no particle reaches its grid nodes" NP 2)
+set(good "${good_bar}")
+set(pull "    rigid mode:\n      Where: Node\n      X: 0.0\n      Y: 0.0\n      Components: y\n    pull:\n      Where: Face\n      Face: x+\n      Components: x\n      Motion: Velocity\n      Value X: 0.1\n")
+expect_failure(conflicting_motions "    rigid mode:\n      Where: Node\n      X: 0.0\n      Y: 0.0\n      Components: y\n"
+               "${pull}    hold:\n      Where: Node\n      X: 0.03\n      Y: 0.0\n      Components: x\n"
+               "'Constraints/pull' and 'Constraints/hold' prescribe different motions of component x of the grid node at (0.03, 0)")
+expect_failure(table_not_increasing "    rigid mode:\n      Where: Node\n      X: 0.0\n      Y: 0.0\n      Components: y\n"
+               "${pull}      Time Function: Table\n      Table: 0, 0; 1e-6, 1; 5e-7, 1\n"
+               "'Constraints/pull/Table' = '0, 0, 1e-6, 1, 5e-7, 1': the times must increase, but 5e-07 follows 1e-06")
+expect_failure(value_not_prescribed "    rigid mode:\n      Where: Node\n      X: 0.0\n      Y: 0.0\n      Components: y\n"
+               "${pull}      Value Y: 0.1\n" "'Constraints/pull/Value Y' = 0.1 but 'Components' = x does not prescribe y")
+expect_failure(value_with_fixed "      Components: y\n" "      Components: y\n      Value Y: 0.5\n"
+               "'Constraints/rigid mode/Value Y' = 0.5 but 'Motion' is Fixed")
+set(good "${good_disks}")
 # Issue 10. A rank grid that leaves a rank without cells (the bar has one cell across y), and
 # requested rank counts that do not multiply to the number of ranks.
 set(good "${good_bar}")
