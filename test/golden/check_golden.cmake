@@ -28,6 +28,8 @@ set(CASES
   "implicit_cpdi_neohookean|cantilever_implicit_cpdi_neohookean.yaml|3|1"
   "implicit_cpgimp_column|column_implicit_cpgimp_neohookean.yaml|4|1"
   "implicit_bar3d_mpm|bar3d_implicit_mpm.yaml|10|1"
+  "implicit_platens_j2_displacement|platens_implicit_mpm_j2.yaml|20|1"
+  "explicit_platens_gimp_velocity|platens_implicit_mpm_j2.yaml|400|40|Type: Implicit|Type: Explicit|Time Step: 0.5|Time Step: 2.0e-5|Shape Function: MPM|Shape Function: GIMP|Motion: Displacement|Motion: Velocity|Value Y: -0.01|Value Y: -1.0|Ramp Time: 10.0|Ramp Time: 2.0e-3"
 )
 # Lines of summary.yaml that count solver work (and the run's status).
 set(COUNTERS "Status:|Newton Iterations|Krylov Iterations|Step Halvings|Stiffness Assemblies|Residual Norms Of Hardest Step|Residual Evaluations|Sub-Steps|Migrations:|Migrated Particles:")
