@@ -5,8 +5,9 @@ Usage: /usr/bin/python3 apps/plot_history.py OUTDIR [--title TITLE]
 
 Reads OUTDIR/history.csv (header row; first column `time`; each monitored quantity `q` may be
 followed by `q_exact`) and writes OUTDIR/plot.png: one subplot per quantity on a shared time
-axis, computed solid and exact dashed, then one panel with the kinetic, strain and total energy
-and one with the linear momentum when history.csv has them. Exits non-zero with one message on stderr if the CSV is
+axis, computed solid and exact dashed, then one panel with the kinetic, strain and total energy,
+one with the linear momentum when history.csv has them, and one per grid condition with its
+reaction components (`<name>_reaction_<x|y|z>`). Exits non-zero with one message on stderr if the CSV is
 missing or malformed.
 """
 import argparse
@@ -65,6 +66,13 @@ def plot(names, columns, title, out_png):
     # A quantity is every non-time column that is not itself someone's `_exact` partner; the
     # energy and momentum columns (Output/Energy And Momentum) share one panel each.
     groups = [g for g in (ENERGY, MOMENTUM) if all(c in columns for c in g)]
+    # Each grid condition's reaction components share a panel.
+    reactions = {}
+    for n in names[1:]:
+        head, sep, axis = n.rpartition("_reaction_")
+        if sep and axis in ("x", "y", "z"):
+            reactions.setdefault(head, []).append(n)
+    groups += [tuple(cols) for cols in reactions.values()]
     grouped = {c for g in groups for c in g}
     quantities = [n for n in names[1:]
                   if not (n.endswith("_exact") and n[: -len("_exact")] in columns) and n not in grouped]
@@ -74,7 +82,8 @@ def plot(names, columns, title, out_png):
     for ax, g in zip(axes[len(quantities):, 0], groups):
         for c in g:
             ax.plot(t, columns[c], "-", label=c)
-        ax.set_ylabel("energy" if g is ENERGY else "momentum")
+        ax.set_ylabel("energy" if g is ENERGY else "momentum" if g is MOMENTUM
+                      else g[0].rpartition("_reaction_")[0] + " reaction (N)")
         ax.grid(True, alpha=0.3)
         ax.ticklabel_format(axis="both", style="sci", scilimits=(-3, 3))
         ax.legend(loc="best", fontsize="small")
