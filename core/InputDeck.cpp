@@ -345,6 +345,12 @@ RCP<const ParameterList> validParameters() {
            "Adaptive Time Step: the smallest sub-step before the run stops (0: the deck's Time Step / 2^Maximum Step Halvings)");
     im.set("Consistent Initial Acceleration", true,
            "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
+    number(im, "Newmark Beta", 0.25,
+           "beta of the Newmark scheme on the grid, u = dt v + dt^2 ((1/2 - beta) a + beta a_new); with gamma "
+           "unconditionally stable when 2 beta >= gamma >= 1/2. 1/4 with gamma = 1/2: average acceleration, no "
+           "numerical damping; gamma > 1/2 with beta = (gamma + 1/2)^2 / 4 damps the highest frequencies most "
+           "(per step by |gamma - 3/2| / (gamma + 1/2) at omega dt -> infinity)");
+    number(im, "Newmark Gamma", 0.5, "gamma of the Newmark scheme, v_new = v + dt ((1 - gamma) a + gamma a_new)");
   }
   {
     ParameterList& p = valid->sublist("Initial Conditions", false, "initial particle state (default: at rest)");

@@ -55,6 +55,7 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
 
 void GridConditions::setStep(double t, double dt) {
   auto h = Kokkos::create_mirror_view(values_);
+  zero_.fill(true);
   for (size_t c = 0; c < specs_.size(); ++c) {
     const ConstraintSpec& s = specs_[c];
     for (int d = 0; d < 3; ++d) {
@@ -78,7 +79,10 @@ void GridConditions::setStep(double t, double dt) {
       field[int(PrescribedField::VelocityChange)] =
           field[int(PrescribedField::EndVelocity)] - field[int(PrescribedField::StartVelocity)];
       field[int(PrescribedField::Acceleration)] = field[int(PrescribedField::VelocityChange)] / dt;
-      for (int f = 0; f < int(PrescribedField::Count); ++f) h(c, f * 3 + d) = field[f];
+      for (int f = 0; f < int(PrescribedField::Count); ++f) {
+        h(c, f * 3 + d) = field[f];
+        zero_[f] = zero_[f] && field[f] == 0.0;
+      }
     }
   }
   Kokkos::deep_copy(values_, h);

@@ -78,6 +78,9 @@ class GridConditions {
   }
 
   bool empty() const { return names_.empty(); }
+  // Whether `field` is zero at every dof for the step last set (a write of it can be skipped
+  // where the column already holds zeros).
+  bool isZero(PrescribedField field) const { return zero_[int(field)]; }
   // Conditions by name, the components each prescribes, and this rank's share of the force each
   // applied to the grid in the last step (3 per condition); reactions(comm) sums over ranks.
   const std::vector<std::string>& names() const { return names_; }
@@ -99,6 +102,7 @@ class GridConditions {
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> values_;
   Kokkos::View<double*, DeviceType> dofForce_;
   std::vector<double> localReaction_;
+  std::array<bool, int(PrescribedField::Count)> zero_{};
 };
 
 }  // namespace impm

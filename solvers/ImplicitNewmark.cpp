@@ -83,7 +83,13 @@ std::string ImplicitNewmark<Shape, Dim>::name() const {
   const std::string method = opt_.fixedParticles ? (Dim == 3 ? (Shape::max_nodes_1d == 3 ? "FE Hex27" : "FE Hex8")
                                                              : (Shape::max_nodes_1d == 3 ? "FE Q9" : "FE Q4"))
                                                   : Shape::name;
-  return std::string("implicit ") + method + " Newmark (" + describe(solver_->parameters()) + ")";
+  std::string scheme = "Newmark";
+  if (!opt_.newmark.averageAcceleration()) {
+    std::ostringstream os;
+    os << "Newmark beta " << opt_.newmark.beta << " gamma " << opt_.newmark.gamma;
+    scheme = os.str();
+  }
+  return std::string("implicit ") + method + " " + scheme + " (" + describe(solver_->parameters()) + ")";
 }
 
 template <class Shape, int Dim>
@@ -241,8 +247,9 @@ void ImplicitNewmark<Shape, Dim>::scatterUnknowns(const Vector& u) {
     Kokkos::parallel_for(
         "scatter_unknowns", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
         KOKKOS_LAMBDA(int k) { d(node(k), DisplacementColumns<Dim>::UX + comp(k)) = uv(k, 0); });
-    // The prescribed dofs move by their increment (they are not unknowns).
-    conditions_.template write<Exec>(d, DisplacementColumns<Dim>::UX, PrescribedField::Increment);
+    // The prescribed dofs move by their increment (they are not unknowns; zero is already there).
+    if (!conditions_.isZero(PrescribedField::Increment))
+      conditions_.template write<Exec>(d, DisplacementColumns<Dim>::UX, PrescribedField::Increment);
   }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
 }
@@ -310,7 +317,7 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   auto uv = u.getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto r = R.getLocalViewDevice(Tpetra::Access::OverwriteAll);
   auto node = freeNode_; auto comp = freeComp_;
-  const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+  const double c1 = opt_.newmark.c1(dt_), c2 = opt_.newmark.c2(dt_), c3 = opt_.newmark.c3();
   Kokkos::parallel_for(
       "implicit_residual", Kokkos::RangePolicy<Exec>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
         const int n = node(k), d = comp(k);
@@ -318,7 +325,7 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
         // f holds the internal force acting on the node (-int B^T sigma).
         // m v and m a are the particle-to-grid momentum and m a sums (lumped normalisation undone).
         const double inertia = consistent ? c1 * f(n, ForceColumns<Dim>::MassProductX + d) : m * c1 * uv(k, 0);
-        r(k, 0) = inertia - m * (c2 * s(n, StateColumns<Dim>::VelX + d) + s(n, StateColumns<Dim>::AccX + d)) - f(n, ForceColumns<Dim>::ForceX + d) - s(n, StateColumns<Dim>::FextX + d);
+        r(k, 0) = inertia - m * (c2 * s(n, StateColumns<Dim>::VelX + d) + c3 * s(n, StateColumns<Dim>::AccX + d)) - f(n, ForceColumns<Dim>::ForceX + d) - s(n, StateColumns<Dim>::FextX + d);
       });
   if (!conditions_.empty()) {  // forceOwned_ now holds the forces at u (recordReactions reuses them)
     if (lastResidualPoint_.is_null() || lastResidualPoint_->getMap().get() != unknownMap_.get())
@@ -351,13 +358,13 @@ void ImplicitNewmark<Shape, Dim>::recordReactions(const Vector& u) {
   auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto disp = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   const bool consistent = opt_.consistentMass;
-  const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+  const double c1 = opt_.newmark.c1(dt_), c2 = opt_.newmark.c2(dt_), c3 = opt_.newmark.c3();
   using SC = StateColumns<Dim>;
   using FC = ForceColumns<Dim>;
   conditions_.template recordReaction<Exec>(KOKKOS_LAMBDA(int n, int d) {
     const double m = s(n, SC::Mass);
     const double inertia = consistent ? c1 * f(n, FC::MassProductX + d) : m * c1 * disp(n, DisplacementColumns<Dim>::UX + d);
-    return inertia - m * (c2 * s(n, SC::VelX + d) + s(n, SC::AccX + d)) - f(n, FC::ForceX + d) - s(n, SC::FextX + d);
+    return inertia - m * (c2 * s(n, SC::VelX + d) + c3 * s(n, SC::AccX + d)) - f(n, FC::ForceX + d) - s(n, SC::FextX + d);
   });
 }
 
@@ -387,12 +394,12 @@ double ImplicitNewmark<Shape, Dim>::residualMagnitude(const Vector& u) {
     auto au = absU.getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto out = sum.getLocalViewDevice(Tpetra::Access::ReadWrite);
     auto node = freeNode_; auto comp = freeComp_;
-    const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_;
+    const double c1 = opt_.newmark.c1(dt_), c2 = opt_.newmark.c2(dt_), c3 = opt_.newmark.c3();
     Kokkos::parallel_for(
         "residual_magnitude", Kokkos::RangePolicy<Exec>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
           const int n = node(k), d = comp(k);
           const double m = s(n, StateColumns<Dim>::Mass);
-          const double start = std::fabs(m * (c2 * s(n, StateColumns<Dim>::VelX + d) + s(n, StateColumns<Dim>::AccX + d))) +
+          const double start = std::fabs(m * (c2 * s(n, StateColumns<Dim>::VelX + d) + c3 * s(n, StateColumns<Dim>::AccX + d))) +
                                std::fabs(s(n, StateColumns<Dim>::FextX + d));
           out(k, 0) = (withP ? out(k, 0) : m * c1 * au(k, 0)) + start;
         });
@@ -529,7 +536,7 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
   // The consistent mass goes into the stencil blocks, so that P is the Jacobian of the
   // consistent-mass residual; the seed's GIMP blocks (cells) cannot hold a GIMP stencil's
   // mass coupling, so P keeps the lumped mass there.
-  const double massFactor = 4.0 / (dt_ * dt_);
+  const double massFactor = opt_.newmark.c1(dt_);
   const bool consistentMassInP = opt_.consistentMass && !seedGimpStiffness_;
   BlockMatrices Kb;
   if constexpr (Dim == 2) {
@@ -578,14 +585,16 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
   {
     auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const double c1 = 4.0 / (dt_ * dt_), c2 = 4.0 / dt_, halfDt = 0.5 * dt_;
+    const double c1 = opt_.newmark.c1(dt_), c2 = opt_.newmark.c2(dt_), c3 = opt_.newmark.c3();
+    const double dt = dt_, gamma = opt_.newmark.gamma;
     Kokkos::parallel_for(
         "implicit_grid_acceleration", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
           for (int c = 0; c < Dim; ++c) {
             const bool free = s(n, StateColumns<Dim>::FreeX + c) > 0.5;
-            const double aNew = free ? c1 * d(n, DisplacementColumns<Dim>::UX + c) - c2 * s(n, StateColumns<Dim>::VelX + c) - s(n, StateColumns<Dim>::AccX + c) : 0.0;
+            const double a = s(n, StateColumns<Dim>::AccX + c);
+            const double aNew = free ? c1 * d(n, DisplacementColumns<Dim>::UX + c) - c2 * s(n, StateColumns<Dim>::VelX + c) - c3 * a : 0.0;
             d(n, DisplacementColumns<Dim>::AnewX + c) = aNew;
-            d(n, DisplacementColumns<Dim>::DvX + c) = free ? halfDt * (s(n, StateColumns<Dim>::AccX + c) + aNew) : 0.0;
+            d(n, DisplacementColumns<Dim>::DvX + c) = free ? dt * ((1 - gamma) * a + gamma * aNew) : 0.0;
           }
         });
     conditions_.template write<Exec>(d, DisplacementColumns<Dim>::AnewX, PrescribedField::Acceleration);
@@ -595,12 +604,12 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
     auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto k = gridKinematics_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
-    const double halfDt = 0.5 * dt_;
+    const double dt = dt_, gamma = opt_.newmark.gamma;
     Kokkos::parallel_for(
         "grid_newmark_update", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
           for (int c = 0; c < Dim; ++c) {
             const double aNew = d(n, DisplacementColumns<Dim>::AnewX + c);
-            k(n, c) = s(n, StateColumns<Dim>::FreeX + c) > 0.5 ? s(n, StateColumns<Dim>::VelX + c) + halfDt * (s(n, StateColumns<Dim>::AccX + c) + aNew) : 0.0;
+            k(n, c) = s(n, StateColumns<Dim>::FreeX + c) > 0.5 ? s(n, StateColumns<Dim>::VelX + c) + dt * ((1 - gamma) * s(n, StateColumns<Dim>::AccX + c) + gamma * aNew) : 0.0;
             k(n, Dim + c) = aNew;
           }
         });
@@ -621,7 +630,7 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
     const double dt = dt_;
     const bool consistent = opt_.consistentMass, fixed = opt_.fixedParticles;
     const bool gridIncrement = equilibriumAcceleration();
-    const double c1 = 4.0 / (dt * dt), c2 = 4.0 / dt;
+    const double c1 = opt_.newmark.c1(dt), c2 = opt_.newmark.c2(dt), c3 = opt_.newmark.c3(), gamma = opt_.newmark.gamma;
     Kokkos::parallel_for(
         "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
           const ParticleStencil<Shape, Dim> stn(g, x, hs, deformation, p);
@@ -635,11 +644,11 @@ void ImplicitNewmark<Shape, Dim>::finishStep(const Vector& u) {
             }
           });
           for (int c = 0; c < Dim; ++c) {
-            if (consistent) an[c] = c1 * u[c] - c2 * v(p, c) - a(p, c);  // the particle's own Newmark update
+            if (consistent) an[c] = c1 * u[c] - c2 * v(p, c) - c3 * a(p, c);  // the particle's own Newmark update
             if (fixed) up(p, c) += u[c];  // Gauss points stay; their displacement is kept apart
             else x(p, c) += u[c];
             if (gridIncrement) v(p, c) += dv[c];  // the grid's own trapezoidal increment (FLIP)
-            else v(p, c) += 0.5 * dt * (a(p, c) + an[c]);
+            else v(p, c) += dt * ((1 - gamma) * a(p, c) + gamma * an[c]);
             a(p, c) = an[c];
           }
         });

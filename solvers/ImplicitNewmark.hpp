@@ -7,7 +7,7 @@
 //
 // where F_int(u) comes from the trial particle stresses sigma_p + D sym(grad u) through the
 // same internal-force kernel the explicit stepper uses. Constrained components and nodes
-// without mass (below a fraction of the heaviest particle's mass) are not unknowns.
+// without mass (no particle reaches them) are not unknowns.
 #pragma once
 
 #include <Teuchos_ParameterList.hpp>
@@ -25,8 +25,26 @@
 
 namespace impm {
 
+// The Newmark family on the grid:
+//   u     = dt v + dt^2 ((1/2 - beta) a + beta a_new)   ->  a_new = c1 u - c2 v - c3 a
+//   v_new = v + dt ((1 - gamma) a + gamma a_new)
+// Average acceleration (beta = 1/4, gamma = 1/2, the default) conserves energy; gamma > 1/2 damps
+// the highest frequencies (most with beta = (gamma + 1/2)^2 / 4).
+struct NewmarkScheme {
+  double beta = 0.25, gamma = 0.5;
+  double c1(double dt) const { return 1.0 / (beta * (dt * dt)); }
+  double c2(double dt) const { return 1.0 / (beta * dt); }
+  double c3() const { return 0.5 / beta - 1.0; }
+  bool averageAcceleration() const { return beta == 0.25 && gamma == 0.5; }
+};
+
 struct ImplicitOptions {
-  double massTolerance = 1e-12;  // nodes lighter than this fraction of the heaviest particle are void
+  NewmarkScheme newmark;
+  // Nodes lighter than this fraction of the heaviest particle are void (not unknowns). 0: every node
+  // a particle reaches is an unknown, as it must be: a linear-MPM particle within round-off of a
+  // grid line reaches the node across it with a weight of 1e-16 but a full gradient, and holding
+  // that node at u = 0 strains the particle by u / h (a falling body, test_newmark).
+  double massTolerance = 0.0;
   int maxStepHalvings = 4;       // a step whose Newton iteration fails is retried with dt/2, dt/4, ...
   bool consistentInitialAcceleration = true;  // a(0) = M^-1 (F_ext(0) - F_int(0)) instead of zero
   // Jacobi iterations towards the consistent-mass projection of particle velocity and

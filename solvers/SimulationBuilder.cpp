@@ -857,6 +857,13 @@ void Simulation::buildIntegrator() {
     iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
     iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
     iopt.fixedParticles = fe;
+    iopt.newmark.beta = im.get<double>("Newmark Beta");
+    iopt.newmark.gamma = im.get<double>("Newmark Gamma");
+    if (!(iopt.newmark.gamma >= 0.5 && 2 * iopt.newmark.beta >= iopt.newmark.gamma && iopt.newmark.beta <= 1.0))
+      throw DeckError("'Integrator/Implicit/Newmark Beta' = " + formatNumber(iopt.newmark.beta) + " and 'Newmark Gamma' = " +
+                      formatNumber(iopt.newmark.gamma) +
+                      ": the implicit integrator needs an unconditionally stable Newmark scheme, 2 beta >= gamma >= 1/2 "
+                      "(and beta <= 1)");
     iopt.adaptiveTimeStep = im.get<bool>("Adaptive Time Step");
     iopt.minimumTimeStep = im.get<double>("Minimum Time Step");
     if (!(iopt.minimumTimeStep >= 0))

@@ -135,6 +135,11 @@ expect_failure(value_not_prescribed "    rigid mode:\n      Where: Node\n      X
 expect_failure(value_with_fixed "      Components: y\n" "      Components: y\n      Value Y: 0.5\n"
                "'Constraints/rigid mode/Value Y' = 0.5 but 'Motion' is Fixed")
 set(good "${good_disks}")
+# A Newmark scheme that is not unconditionally stable (2 beta >= gamma >= 1/2).
+set(good "${good_bar}")
+expect_failure(newmark_unstable "Type: Explicit" "Type: Implicit\n    Implicit:\n      Newmark Beta: 0.25\n      Newmark Gamma: 0.7"
+               "'Integrator/Implicit/Newmark Beta' = 0.25 and 'Newmark Gamma' = 0.7")
+set(good "${good_disks}")
 # Issue 10. A rank grid that leaves a rank without cells (the bar has one cell across y), and
 # requested rank counts that do not multiply to the number of ranks.
 set(good "${good_bar}")
