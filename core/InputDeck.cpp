@@ -1,4 +1,5 @@
 #include "core/InputDeck.hpp"
+#include "core/ShapeRegistry.hpp"
 
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
@@ -272,7 +273,7 @@ RCP<const ParameterList> validParameters() {
                  "a later body replaces the particles of earlier ones inside its shape").disableRecursiveValidation();
   {
     ParameterList& p = valid->sublist("Method", false, "spatial discretisation");
-    choice(p, "Shape Function", "MPM", {"MPM", "GIMP", "cpGIMP", "CPDI", "B-Spline Quadratic", "B-Spline Cubic", "FE Q4", "FE Q9"},
+    choice(p, "Shape Function", "MPM", shapeNames(),
            "MPM: linear tent at particle points; GIMP: uniform GIMP; cpGIMP: GIMP with the particle domain "
            "stretched by the diagonal of F (capped at half a cell), for large deformation; CPDI: CPDI1 (Sadeghirad et al. "
            "2011), the domain a parallelogram / parallelepiped carried by the full F, weights averaged over its corners "

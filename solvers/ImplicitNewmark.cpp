@@ -55,7 +55,8 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
   // Columns 0-1: internal force; 2-3: M_C u (consistent mass).
   forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), ForceColumns<Dim>::Count));
   forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), ForceColumns<Dim>::Count));
-  massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
+  // (Linear MPM: every node a particle reaches is an unknown; see ImplicitOptions::massTolerance.)
+  massCutoff_ = std::is_same<Shape, LinearMpm>::value ? 0.0 : opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
   seedGimpStiffness_ = std::is_same<Shape, UniformGimp>::value && opt_.seedGimpStiffness;
   if (seedGimpStiffness_ && Dim == 3)
     throw std::invalid_argument("'Integrator/Implicit/GIMP Stiffness' = Integrated (the seed's overlap integrals) is 2D only; use Consistent in 3D");

@@ -7,7 +7,7 @@
 //
 // where F_int(u) comes from the trial particle stresses sigma_p + D sym(grad u) through the
 // same internal-force kernel the explicit stepper uses. Constrained components and nodes
-// without mass (no particle reaches them) are not unknowns.
+// without mass are not unknowns (see ImplicitOptions::massTolerance).
 #pragma once
 
 #include <Teuchos_ParameterList.hpp>
@@ -40,11 +40,14 @@ struct NewmarkScheme {
 
 struct ImplicitOptions {
   NewmarkScheme newmark;
-  // Nodes lighter than this fraction of the heaviest particle are void (not unknowns). 0: every node
-  // a particle reaches is an unknown, as it must be: a linear-MPM particle within round-off of a
-  // grid line reaches the node across it with a weight of 1e-16 but a full gradient, and holding
-  // that node at u = 0 strains the particle by u / h (a falling body, test_newmark).
-  double massTolerance = 0.0;
+  // Nodes lighter than this fraction of the heaviest particle are void (not unknowns), so that the
+  // matrix has no near-zero rows: with smooth weights (GIMP, cpGIMP, CPDI, B-splines) a node reached
+  // with a tiny weight also has a tiny gradient and stiffness. Linear MPM ignores it (every node a
+  // particle reaches is an unknown): its gradient is a full 1/h at any weight, so a particle within
+  // round-off of a grid line reaches the node across it with a weight of 1e-16, and holding that
+  // node at u = 0 strains the particle by u / h (a falling body, test_newmark); its row is then
+  // carried by the stiffness.
+  double massTolerance = 1e-12;
   int maxStepHalvings = 4;       // a step whose Newton iteration fails is retried with dt/2, dt/4, ...
   bool consistentInitialAcceleration = true;  // a(0) = M^-1 (F_ext(0) - F_int(0)) instead of zero
   // Jacobi iterations towards the consistent-mass projection of particle velocity and

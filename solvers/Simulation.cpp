@@ -2,6 +2,7 @@
 // progress line). Part 1 (SimulationBuilder.cpp) built the objects from the deck; part 3
 // (SimulationSummary.cpp) writes summary.yaml.
 #include "solvers/Simulation.hpp"
+#include "core/ShapeRegistry.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
 #include <sys/resource.h>
@@ -137,7 +138,7 @@ void Simulation::reportParticlesOutOfReach(int total, double t) const {
     throw ParticlesOutOfReach(std::to_string(total) + " particle(s) left the grid or the nodes their MPI rank maps at t = " +
                                   formatNumber(t) + " s",
                               "use a larger grid");
-  if (shape_ == "CPDI") checkCpdiDomainsInReach(t);
+  if (shapeInfo(shape_).cornerDomains) checkCpdiDomainsInReach(t);
 }
 
 // CPDI domains: at most 4 nodes per direction (CpdiStencil.hpp), inside the rank's node columns.

@@ -3,6 +3,8 @@
 // of the deck happens here, before anything is written: a DeckError names the key.
 #include "solvers/Simulation.hpp"
 
+#include "core/ShapeRegistry.hpp"
+
 #include <Teuchos_CommHelpers.hpp>
 
 #include <stdlib.h>
@@ -143,8 +145,8 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   thickness_ = positive(g, "Grid", "Thickness");
 
   shape_ = deck_.sublist("Method").get<std::string>("Shape Function");
-  if (shape_ == "FE Q4") placement_ = Placement::GaussQ4;
-  if (shape_ == "FE Q9") placement_ = Placement::GaussQ9;
+  const ShapeInfo& shape = shapeInfo(shape_);  // (the schema admits only the registry's names)
+  if (shape.fixedParticles) placement_ = shape.quadraticElements ? Placement::GaussQ9 : Placement::GaussQ4;
   buildMaterialsAndBodies();
 
   const ParameterList& in = deck_.sublist("Integrator");
@@ -180,7 +182,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   migrationSlack_ = dec.get<int>("Migration Slack Cells");
   if (migrationSlack_ < 0)
     throw DeckError("'Decomposition/Migration Slack Cells' must be 0 or positive, got " + std::to_string(migrationSlack_));
-  const int reach = shape_ == "CPDI" ? 3 : 2;
+  const int reach = shapeInfo(shape_).cornerDomains ? 3 : 2;
   // A rank's block is wider than the slack, so that a particle can only stray into a neighbour's.
   const RankGrid ranks(grid_, comm_->getSize(), {dec.get<int>("Ranks X"), dec.get<int>("Ranks Y"), dec.get<int>("Ranks Z")},
                        migrationSlack_ + 1);
@@ -299,7 +301,7 @@ void Simulation::buildMaterialsAndBodies() {
       if (grid_.dim == 2 && deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress")
         throw DeckError("'" + key + "/Model' = " + model + " is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
                         "would need the out-of-plane stretch solved per particle (use Plane Strain or Grid/Dimension 3)");
-      if (shape_ == "FE Q4" || shape_ == "FE Q9")
+      if (shapeInfo(shape_).fixedParticles)
         throw DeckError("'" + key + "/Model' = " + model + " needs moving particles; 'Method/Shape Function' = " + shape_ +
                         " is the small-strain finite-element reference (use MPM, GIMP or cpGIMP)");
     }
@@ -325,17 +327,17 @@ void Simulation::buildMaterialsAndBodies() {
   if (params.empty()) throw DeckError("'Materials' is empty: a deck with Bodies needs at least one material");
   materials_ = Materials(params, plane);
 
-  if (shape_ == "B-Spline Quadratic" && (grid_.nx < 2 || grid_.ny < 2 || (grid_.dim == 3 && grid_.nz < 2)))
-    throw DeckError("'Method/Shape Function' = B-Spline Quadratic needs at least 2 cells per direction (a stencil spans 3 "
-                    "nodes), got " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
+  const ShapeInfo& shape = shapeInfo(shape_);
+  const int fewest = shape.minimumCells;
+  if (shape.minimumCells > 1 && !shape.quadraticElements &&
+      (grid_.nx < fewest || grid_.ny < fewest || (grid_.dim == 3 && grid_.nz < fewest)))
+    throw DeckError("'Method/Shape Function' = " + shape_ + " needs at least " + std::to_string(fewest) +
+                    " cells per direction (a stencil spans " + std::to_string(shape.stencilNodes1d) + " nodes), got " +
+                    std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
                     (grid_.dim == 3 ? " x " + std::to_string(grid_.nz) : std::string()) + " cells");
-  if (shape_ == "B-Spline Cubic" && (grid_.nx < 3 || grid_.ny < 3 || (grid_.dim == 3 && grid_.nz < 3)))
-    throw DeckError("'Method/Shape Function' = B-Spline Cubic needs at least 3 cells per direction (a stencil spans 4 "
-                    "nodes), got " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
-                    (grid_.dim == 3 ? " x " + std::to_string(grid_.nz) : std::string()) + " cells");
-  if (shape_ == "FE Q9" && grid_.dim == 3 && grid_.nz % 2)
+  if (shape.quadraticElements && grid_.dim == 3 && grid_.nz % 2)
     throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " + std::to_string(grid_.nz));
-  if (shape_ == "FE Q9" && (grid_.nx % 2 || grid_.ny % 2))
+  if (shape.quadraticElements && (grid_.nx % 2 || grid_.ny % 2))
     throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
                     std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
   const ParameterList& bs = deck_.sublist("Bodies");
@@ -507,9 +509,7 @@ void Simulation::checkProblemSize(bool implicit) const {
   // for GIMP, cpGIMP, quadratic B-splines and FE Q9, 7 for cubic B-splines and CPDI), and each particle's
   // dense stiffness block holds (dim x nodes)^2 values (24^2 for MPM, 81^2 for GIMP, quadratic B-splines
   // and Hex27, 192^2 for cubic B-splines and CPDI, 4 nodes per direction; the 2D constants include their blocks).
-  const bool wide = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "B-Spline Quadratic" || shape_ == "FE Q9";
-  const bool fourNodes = shape_ == "B-Spline Cubic" || shape_ == "CPDI";
-  const double reach = fourNodes ? 7.0 : wide ? 5.0 : 3.0, blockNodes = fourNodes ? 4.0 : wide ? 3.0 : 2.0;
+  const double blockNodes = shapeInfo(shape_).stencilNodes1d, reach = 2.0 * blockNodes - 1.0;
   const double activeScale = solid ? 1.5 * 1.5 * reach : 1.0;
   const double blockBytesPerParticle = implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
   const double gridBytes =
@@ -569,9 +569,10 @@ void Simulation::checkConditionsReached(const std::vector<ConstraintSpec>& specs
 long long Simulation::particlesReaching(const Point& lo, const Point& hi) const {
   // A node's shape function reaches one cell (FE Q9: one element of two cells; quadratic
   // B-splines: 1.5 cells; cubic: 2), plus the particle's half size with GIMP.
-  const double span = shape_ == "FE Q9" || shape_ == "B-Spline Cubic" ? 2.0 : shape_ == "B-Spline Quadratic" ? 1.5 : 1.0;
+  const ShapeInfo& shape = shapeInfo(shape_);
+  const double span = shape.nodeReachCells;
   const double reach[3] = {span * grid_.hx, span * grid_.hy, span * grid_.hz};
-  const double domain = shape_ == "GIMP" || shape_ == "cpGIMP" || shape_ == "CPDI" ? 1.0 : 0.0;
+  const double domain = shape.particleDomain ? 1.0 : 0.0;
   auto px = particles_.x;
   auto hs = particles_.halfSize;
   const int dim = grid_.dim;
@@ -782,7 +783,7 @@ std::vector<LoadSpec> Simulation::buildLoads() {
                     "Force in Loads (without it the field is not a solution)");
   loadSpecs_ = specs;  // rebuilt for a new rank grid (load balance)
   loadParticleIds_ = loadParticle;
-  loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size(), shape_ == "FE Q9");
+  loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size(), shapeInfo(shape_).quadraticElements);
   loads_.locateParticles(particles_);
   return specs;
 }
@@ -826,9 +827,7 @@ void Simulation::buildIntegrator() {
                 << " is above 1, beyond the measured stable limit of the particle transfers; the run may diverge\n";
   }
 
-  const bool gimp = shape_ == "GIMP", cpgimp = shape_ == "cpGIMP", cpdi = shape_ == "CPDI", bspline = shape_ == "B-Spline Quadratic",
-             cubicBspline = shape_ == "B-Spline Cubic",
-             fe = shape_ == "FE Q4" || shape_ == "FE Q9";
+  const bool fe = shapeInfo(shape_).fixedParticles;
   if (fe && integratorType != "Implicit")
     throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
   // Solver options are checked whatever the integrator, so that a bad one never waits for a
@@ -876,18 +875,13 @@ void Simulation::buildIntegrator() {
     if (iopt.projectionIterations < 0)
       throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
     iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
+    // The shape's type from the registry (core/ShapeRegistry.hpp), then the dimension.
     auto implicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
       constexpr int Dim = decltype(dimension)::value;
-      if (gimp) return std::make_unique<ImplicitNewmark<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      if (cpgimp) return std::make_unique<ImplicitNewmark<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      if (cpdi) return std::make_unique<ImplicitNewmark<Cpdi, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      if (bspline)
-        return std::make_unique<ImplicitNewmark<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      if (cubicBspline)
-        return std::make_unique<ImplicitNewmark<CubicBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      if (shape_ == "FE Q9")
-        return std::make_unique<ImplicitNewmark<QuadraticLagrange, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
-      return std::make_unique<ImplicitNewmark<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      return visitShape(shape_, [&](auto shape, const ShapeInfo&) -> std::unique_ptr<Integrator> {
+        using Shape = typename decltype(shape)::type;
+        return std::make_unique<ImplicitNewmark<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      });
     };
     try {
       integrator_ = grid_.dim == 3 ? implicitOf(std::integral_constant<int, 3>{}) : implicitOf(std::integral_constant<int, 2>{});
@@ -897,14 +891,14 @@ void Simulation::buildIntegrator() {
   } else {
     auto explicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
       constexpr int Dim = decltype(dimension)::value;
-      if (gimp) return std::make_unique<ExplicitStepper<UniformGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
-      if (cpgimp) return std::make_unique<ExplicitStepper<ConvectedGimp, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
-      if (cpdi) return std::make_unique<ExplicitStepper<Cpdi, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
-      if (bspline)
-        return std::make_unique<ExplicitStepper<QuadraticBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
-      if (cubicBspline)
-        return std::make_unique<ExplicitStepper<CubicBSpline, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
-      return std::make_unique<ExplicitStepper<LinearMpm, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+      return visitShape(shape_, [&](auto shape, const ShapeInfo&) -> std::unique_ptr<Integrator> {
+        using Shape = typename decltype(shape)::type;
+        if constexpr (std::is_same_v<Shape, QuadraticLagrange>) {
+          return nullptr;  // (FE Q9 is implicit only: refused above)
+        } else {
+          return std::make_unique<ExplicitStepper<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+        }
+      });
     };
     integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});
   }

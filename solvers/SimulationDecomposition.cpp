@@ -2,6 +2,7 @@
 // (tensor splits of the particle histograms, RankGrid.hpp) and rebuilds what depends on them;
 // a checkpoint keeps the cuts so that a restart at the same rank count continues bit for bit.
 #include "core/ParticleMigration.hpp"
+#include "core/ShapeRegistry.hpp"
 #include "core/RankGrid.hpp"
 #include "solvers/Simulation.hpp"
 
@@ -26,7 +27,7 @@ void Simulation::adoptRankGrid(const RankGrid& ranks, bool moveParticles) {
   dist_ = std::make_unique<GridDistribution>(grid_, comm_, dist_->ghostWidth(), ranks);
   if (moveParticles) sendParticlesToOwners(particles_, *dist_);
   constraints_ = GridConditions(constraintSpecs_, *dist_);
-  loads_ = LoadSet(loadSpecs_, *dist_, loadParticleIds_, (int)bodies_.size(), shape_ == "FE Q9");
+  loads_ = LoadSet(loadSpecs_, *dist_, loadParticleIds_, (int)bodies_.size(), shapeInfo(shape_).quadraticElements);
   loads_.locateParticles(particles_);
   buildIntegrator();
   integrator_->restoreState(state);
