@@ -43,4 +43,11 @@ std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMa
   return nodes;
 }
 
+std::vector<NodeIndex> constraintNodes(const ConstraintSpec& s, const StructuredGrid& g) {
+  if (s.where == "Face") return faceNodes(g, s.body, s.face);
+  if (s.where == "Box") return boxNodes(g, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
+  return {{(int)std::lround((s.x - g.x0) / g.hx), (int)std::lround((s.y - g.y0) / g.hy),
+           g.dim == 3 ? (int)std::lround((s.z - g.z0) / g.hz) : 0}};
+}
+
 }  // namespace impm

@@ -58,5 +58,8 @@ std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMa
 // Grid nodes on a face of the body, within the body's extent along the face.
 std::vector<NodeIndex> faceNodes(const StructuredGrid& g, const RectangularBody& body, const std::string& face);
 
+// The nodes a constraint names: its face, its box, or its node.
+std::vector<NodeIndex> constraintNodes(const ConstraintSpec& s, const StructuredGrid& g);
+
 
 }  // namespace impm

@@ -8,15 +8,6 @@
 
 namespace impm {
 
-namespace {
-// The nodes (global i, j, k) a spec names.
-std::vector<NodeIndex> nodesOf(const ConstraintSpec& s, const StructuredGrid& g) {
-  if (s.where == "Face") return faceNodes(g, s.body, s.face);
-  if (s.where == "Box") return boxNodes(g, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
-  return {{(int)std::lround((s.x - g.x0) / g.hx), (int)std::lround((s.y - g.y0) / g.hy),
-           g.dim == 3 ? (int)std::lround((s.z - g.z0) / g.hz) : 0}};
-}
-}  // namespace
 
 GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist)
     : dim_(dist.grid().dim), specs_(specs) {
@@ -28,7 +19,7 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
     const ConstraintSpec& s = specs[c];
     names_.push_back(s.name);
     prescribed_.push_back({s.fixes(0), s.fixes(1), g.dim == 3 && s.fixes(2)});
-    for (auto [i, j, k] : nodesOf(s, g)) {
+    for (auto [i, j, k] : constraintNodes(s, g)) {
       if (!owned.contains(i, j, k)) continue;
       for (int d = 0; d < g.dim; ++d)
         if (s.fixes(d) && taken.insert({owned(i, j, k), d}).second) {

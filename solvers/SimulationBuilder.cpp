@@ -545,11 +545,7 @@ void Simulation::checkNodeReached(const std::string& key, const Point& point) co
 void Simulation::checkConditionsReached(const std::vector<ConstraintSpec>& specs) const {
   for (const ConstraintSpec& s : specs) {
     if (s.motion == ConstraintSpec::Motion::Fixed) continue;
-    std::vector<NodeIndex> nodes;
-    if (s.where == "Face") nodes = faceNodes(grid_, s.body, s.face);
-    else if (s.where == "Box") nodes = boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
-    else nodes.push_back({(int)std::lround((s.x - grid_.x0) / grid_.hx), (int)std::lround((s.y - grid_.y0) / grid_.hy),
-                          grid_.dim == 3 ? (int)std::lround((s.z - grid_.z0) / grid_.hz) : 0});
+    const std::vector<NodeIndex> nodes = constraintNodes(s, grid_);
     // (Face and box node sets are boxes of nodes: a particle reaching their bounding box reaches one of them.)
     Point lo = {1e300, 1e300, 1e300}, hi = {-1e300, -1e300, -1e300};
     for (const auto& ijk : nodes)
@@ -666,11 +662,7 @@ void Simulation::checkConditionOverlaps(const std::vector<ConstraintSpec>& specs
   std::map<std::array<int, 4>, size_t> owner;  // (i, j, k, component) -> first condition
   for (size_t c = 0; c < specs.size(); ++c) {
     const ConstraintSpec& s = specs[c];
-    std::vector<NodeIndex> nodes;
-    if (s.where == "Face") nodes = faceNodes(grid_, s.body, s.face);
-    else if (s.where == "Box") nodes = boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax);
-    else nodes.push_back({(int)std::lround((s.x - grid_.x0) / grid_.hx), (int)std::lround((s.y - grid_.y0) / grid_.hy),
-                          grid_.dim == 3 ? (int)std::lround((s.z - grid_.z0) / grid_.hz) : 0});
+    const std::vector<NodeIndex> nodes = constraintNodes(s, grid_);
     for (const auto& [i, j, k] : nodes)
       for (int d = 0; d < grid_.dim; ++d) {
         if (!s.fixes(d)) continue;
