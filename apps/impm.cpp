@@ -31,7 +31,7 @@
 
 #include "core/InputDeck.hpp"
 #include "core/PhaseTimer.hpp"
-#include "solvers/NewtonSolver.hpp"
+#include "solvers/newton/NewtonSolver.hpp"
 #include "solvers/Simulation.hpp"
 #include "core/FloatingPoint.hpp"
 

@@ -1,5 +1,6 @@
 // The materials of a run: one interface, a table of parameter sets indexed by the particle's
-// material id, and a switch on each row's model (cb-geo/mpm's compute_stress/compute_dmatrix,
+// material id, and a switch on each row's model (the host side of each model, its deck keys and
+// checks, is in physics/materials/MaterialRegistry.hpp) (cb-geo/mpm's compute_stress/compute_dmatrix,
 // as a Kokkos functor: several materials share one kernel instantiation). Each law lives in
 // its own file under physics/materials/. The kernels in core/ are templated on the law type and
 // call only its device interface:
@@ -93,6 +94,11 @@ struct MaterialLaw {
     else
       tangent<Dim>(m, J, D);
   }
+  // The history a particle of material m starts with (zeros for a model without history).
+  KOKKOS_INLINE_FUNCTION void initialHistory(int m, double* h) const {
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = 0.0;
+    if (model(m) == (int)MaterialModel::J2Plasticity) J2PlasticityModel::initialHistory(h);
+  }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim], const double* h) const {
     const int kind = model(m);
@@ -131,15 +137,13 @@ class Materials {
   int count() const { return (int)params_.size(); }
   const MaterialParameters& parameters(int m) const { return params_[m]; }
   PlaneCondition plane() const { return plane_; }
-  bool anyFiniteStrain() const {
-    return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return p.model != MaterialModel::LinearElastic; });
-  }
-  bool anyHistory() const {
-    return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return p.model == MaterialModel::J2Plasticity; });
-  }
-  static std::string modelName(MaterialModel m) {
-    return m == MaterialModel::NeoHookean ? "Neo-Hookean" : m == MaterialModel::J2Plasticity ? "J2 Plasticity" : "Linear Elastic";
-  }
+  // From the registry of models (physics/materials/MaterialRegistry.cpp).
+  bool anyFiniteStrain() const;
+  bool anyHistory() const;
+  static std::string modelName(MaterialModel m);
+  // Allocates the particles' history (when a material has one) and gives each particle its
+  // material's initial history.
+  void initializeHistory(ParticleSet& ps) const;
   double density(int m) const { return params_[m].density; }
   double c11(int m) const {
     const double E = params_[m].E, nu = params_[m].nu;

@@ -1,12 +1,10 @@
-// Simulation, part 2: the run loop (time steps, particle migration, history, ParaView output,
-// progress line). Part 1 (SimulationBuilder.cpp) built the objects from the deck; part 3
+// Simulation, part 2: the run loop (time steps, audits, particle migration and load balance; the
+// outputs are its observers, solvers/run/RunObservers.hpp). Part 1 (SimulationBuilder.cpp) built the objects from the deck; part 3
 // (SimulationSummary.cpp) writes summary.yaml.
 #include "solvers/Simulation.hpp"
 #include "core/ShapeRegistry.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,7 +21,8 @@
 #include "core/ParticleMigration.hpp"
 #include "core/output/VtkWriter.hpp"
 #include "solvers/History.hpp"
-#include "solvers/ImplicitNewmark.hpp"
+#include "solvers/implicit/ImplicitNewmark.hpp"
+#include "solvers/run/RunObservers.hpp"
 
 namespace impm {
 
@@ -232,23 +231,13 @@ std::string Simulation::timeStepAdvice() const {
   return advice;
 }
 
+// The run: outputs opened, the initial load balance, then per step
+//   integrator step -> audit (diverged?) -> migration and load balance -> reach check -> observers
+// (history rows, VTU, checkpoints, progress; solvers/run/RunObservers.hpp), and the report.
 RunResult Simulation::run(std::ostream& log) {
-  namespace fs = std::filesystem;
-  const int rank = comm_->getRank();
   const ParameterList& out = deck_.sublist("Output");
-  const int historyInterval = out.get<int>("History Interval");  // >= 1, checked by the builder
-  const int vtkInterval = out.get<int>("VTK Interval");
-  const bool progress = out.get<bool>("Progress");
-  const int checkpointInterval = out.get<int>("Checkpoint Interval");
   const int firstStep = restartStep_;
-
-  // Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.
-  rethrowOnEveryRank(*comm_, rank == 0, [&] {
-    std::error_code ec;
-    fs::create_directories(outputDir_, ec);
-    if (ec) throw DeckError(outputKey_ + " = '" + outputDir_ + "' cannot be created: " + ec.message());
-  });
-
+  createOutputDirectory();
   RunResult r;
   const long long localCount = particles_.count;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, localCount, Teuchos::outArg(r.particles));
@@ -257,62 +246,16 @@ RunResult Simulation::run(std::ostream& log) {
 
   History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_, &constraints_);
   rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv", out.get<int>("History Digits")); });
-
-  PvdIndex pvd(outputDir_ + "/particles.pvd", comm_->getSize());
-  int vtkCount = 0;
-  auto writeVtkOf = [&](const ParticleSet& ps, double t) {
-    char stem[64];
-    std::snprintf(stem, sizeof stem, "particles_%05d", vtkCount++);
-    // Each rank writes its piece, then rank 0 the index; a failure on any rank ends them all.
-    rethrowOnEveryRank(*comm_, true, [&] { writeParticlesVtu(outputDir_ + "/" + PvdIndex::pieceName(stem, rank), ps); });
-    rethrowOnEveryRank(*comm_, rank == 0, [&] { pvd.add(t, stem); });
-    return std::string(stem);
-  };
-  auto writeVtk = [&](double t) { return writeVtkOf(particles_, t); };
-  // The state at the last history row, packed as for migration: when a later step diverges
-  // (an inverted particle, a NaN) it is written as the last good state. A copy every History
-  // Interval steps, not every step (the explicit hot loop stays as it is). Not for the FE
-  // reference's fixed Gauss points, which neither move nor invert.
-  const bool keepGoodState = !particles_.fixedPositions();
-  ParticleSet::Packed goodState;
-  ParticleSet::Ids everyParticle;
-  double goodTime = 0;
-  int goodStep = 0;
-  auto keepState = [&](double t, int step) {
-    if (!keepGoodState) return;
-    if ((int)everyParticle.extent(0) != particles_.count) {
-      everyParticle = ParticleSet::Ids("every_particle", particles_.count);
-      auto all = everyParticle;
-      Kokkos::parallel_for("iota", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count), KOKKOS_LAMBDA(int p) { all(p) = p; });
-    }
-    if ((int)goodState.extent(0) != particles_.count || (int)goodState.extent(1) != particles_.packedWidth())
-      goodState = ParticleSet::Packed(Kokkos::view_alloc(Kokkos::WithoutInitializing, "good_state"), particles_.count,
-                                      particles_.packedWidth());
-    particles_.pack(everyParticle, goodState);
-    Kokkos::fence();
-    goodTime = t;
-    goodStep = step;
-  };
-  auto writeGoodState = [&]() {
-    ParticleSet good;
-    good.dim = particles_.dim;
-    if (particles_.hasHistory()) {
-      good.historyAllocated = true;
-      good.history = ParticleSet::Hist("history", 0, ParticleSet::kHistoryCount);
-    }
-    good.resize(0);
-    good.unpackAppend(goodState);
-    Kokkos::fence();
-    return writeVtkOf(good, goodTime);
-  };
-  auto writeSummaryOnRoot = [&](RunResult& result) {  // collective
-    struct rusage usage;
-    getrusage(RUSAGE_SELF, &usage);
-    const double bytes = 1024.0 * double(usage.ru_maxrss);  // ru_maxrss is in KiB on Linux
-    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, bytes, Teuchos::outArg(result.peakResidentBytesMax));
-    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, bytes, Teuchos::outArg(result.peakResidentBytesTotal));
-    rethrowOnEveryRank(*comm_, rank == 0, [&] { writeSummary(result); });
-  };
+  const int historyInterval = out.get<int>("History Interval");  // >= 1, checked by the builder
+  RunObservers observers;
+  auto& historyOutput = observers.add(
+      std::make_unique<HistoryOutput>(history, restarted_, restartState_, historyInterval, steps_, dt_));
+  observers.add(std::make_unique<ParticleOutput>(particles_, comm_, outputDir_, restarted_, out.get<int>("VTK Interval"),
+                                                 historyInterval, steps_, dt_));
+  observers.add(std::make_unique<CheckpointOutput>(
+      out.get<int>("Checkpoint Interval"), [&](int step, const RunResult& result) { writeCheckpointAt(step, result, history); }));
+  observers.add(std::make_unique<ProgressLine>(out.get<bool>("Progress") && comm_->getRank() == 0, steps_));
+  observers.add(std::make_unique<SummaryOutput>(comm_, [&](const RunResult& result) { writeSummary(result); }));
 
   // Load balance (Decomposition/Load Balance Interval): at the start and every interval steps,
   // when the imbalance exceeds the threshold. Monitors follow their particles by global id.
@@ -325,37 +268,12 @@ RunResult Simulation::run(std::ostream& log) {
   };
   if (balancing && !restarted_ && r.loadImbalance > loadBalanceThreshold_) balanceLoad();
 
-  if (restarted_) {
-    // The checkpoint's rows, as the interrupted run wrote them; its VTU files that are in this
-    // output directory stay listed in particles.pvd, and the new ones continue their numbering.
-    history.restoreState(restartState_, r);
-    history.locateMonitors();
-    history.replay(r);
-    for (int m = 0; m <= firstStep; ++m) {
-      if (m > 0 && (vtkInterval <= 0 || m % vtkInterval != 0 || m == steps_)) continue;
-      char stem[64];
-      std::snprintf(stem, sizeof stem, "particles_%05d", vtkCount++);
-      rethrowOnEveryRank(*comm_, rank == 0, [&] {
-        bool present = true;
-        for (int q = 0; q < comm_->getSize(); ++q) present = present && fs::exists(outputDir_ + "/" + PvdIndex::pieceName(stem, q));
-        if (present) pvd.add(m * dt_, stem);
-      });
-    }
-  } else {
-    history.record(0.0, r);
-    writeVtk(0.0);
-  }
-  keepState(firstStep * dt_, firstStep);
+  observers.begin({firstStep, firstStep * dt_}, r);
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
-  int lastRecordedStep = firstStep;  // the step of history.csv's last row
-
-  // Every run that stops early ends alike (README, "Exit status"): history.csv up to the last
-  // good step's row, the last good particles as VTU, summary.yaml with the Status and the
-  // Failure, and one message (exit 1). `stepNotTaken`: the failed step left the particles at
-  // the state before it (Newton failed), which is then the last good state; otherwise (a
-  // diverged state, particles out of the grid) the state kept at the last history row is.
-  // Collective: every rank reaches it together (the failures are decided on reduced values).
+  // Every run that stops early ends alike (the failure contract, RunObservers.hpp); then one
+  // message (exit 1). Collective: every rank reaches it together (the failures are decided on
+  // reduced values).
   auto failRun = [&](int failedStep, const std::string& status, const std::string& reason, const std::string& advice,
                      bool stepNotTaken) -> std::runtime_error {
     r.status = status;
@@ -364,36 +282,17 @@ RunResult Simulation::run(std::ostream& log) {
     r.failureReason = reason;
     r.steps = failedStep - 1;
     r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
-    if (stepNotTaken) {
-      const double t = (failedStep - 1) * dt_;
-      if (lastRecordedStep < failedStep - 1) {
-        history.record(t, r);
-        lastRecordedStep = failedStep - 1;
-      }
-      r.lastGoodStep = failedStep - 1;
-      r.lastGoodTime = t;
-      r.lastGoodFile = writeVtk(t);
-    } else if (keepGoodState) {
-      r.lastGoodStep = goodStep;
-      r.lastGoodTime = goodTime;
-      r.lastGoodFile = writeGoodState();
-    }
-    history.close();
-    writeSummaryOnRoot(r);
-    std::string where = "; history.csv (to step " + std::to_string(lastRecordedStep) + ") and summary.yaml";
+    observers.fail({failedStep, stepNotTaken}, r);
+    std::string where = "; history.csv (to step " + std::to_string(historyOutput.lastRecordedStep()) + ") and summary.yaml";
     if (r.lastGoodStep >= 0)
       where += ", and the last good state (step " + std::to_string(r.lastGoodStep) + ", t = " + formatNumber(r.lastGoodTime) +
                " s) as " + r.lastGoodFile + "_r*.vtu,";
     return std::runtime_error(reason + (advice.empty() ? std::string() : "; " + advice) + where + " are in " + outputDir_);
   };
 
-  const bool tty = isatty(fileno(stderr));
-  auto lastPrint = start;
-  bool printedProgress = false;
   for (int n = firstStep; n < steps_; ++n) {
-    const double t = n * dt_;
     try {
-      integrator_->step(t, dt_);
+      integrator_->step(n * dt_, dt_);
     } catch (const NewtonNotConverged& e) {
       throw failRun(n + 1, "newton failed", e.what(), "", true);
     }
@@ -402,19 +301,8 @@ RunResult Simulation::run(std::ostream& log) {
     // that message would hide the cause. One reduction per step: an unstable explicit step
     // grows ~300x per step, leaving the grid within a few steps.
     const ParticleAudit audit = auditParticles();
-    const double divergence = audit.divergence;
-    if (divergence > kDivergedStrain) {
-      // The state of step n + 1 is bad: the last good one is the last history row's.
-      std::string why;
-      if (std::isinf(divergence)) {
-        const std::string which = describeBadParticle();
-        why = which.empty() ? std::string("a particle velocity or stress is not finite") : which;
-      } else {
-        why = "a particle stress is " + formatNumber(divergence) + " times its material's P-wave modulus (a strain of order one)";
-      }
-      throw failRun(n + 1, "diverged", "the run diverged at step " + std::to_string(n + 1) + " (t = " + formatNumber(tNew) + " s): " + why,
-                    timeStepAdvice(), false);
-    }
+    if (audit.divergence > kDivergedStrain)  // the last good state is the last history row's
+      throw failRun(n + 1, "diverged", divergenceMessage(audit.divergence, n + 1, tNew), timeStepAdvice(), false);
     // The audit's reach count holds unless particles changed ranks since (migration, balancing).
     bool particlesMoved = false;
     if (const long long moved = migrateParticles(particles_, *dist_, migrationSlack_); moved > 0) {
@@ -431,56 +319,56 @@ RunResult Simulation::run(std::ostream& log) {
       particlesMoved = true;
     }
     try {
-      if (particlesMoved)
-        checkParticlesInReach(tNew);
-      else
-        reportParticlesOutOfReach(audit.outOfReach, tNew);
+      if (particlesMoved) checkParticlesInReach(tNew);
+      else reportParticlesOutOfReach(audit.outOfReach, tNew);
     } catch (const ParticlesOutOfReach& e) {
       throw failRun(n + 1, "left the grid", e.what(), e.advice, false);
     }
-    if ((n + 1) % historyInterval == 0 || n + 1 == steps_) {
-      history.record(tNew, r);
-      lastRecordedStep = n + 1;
-      keepState(tNew, n + 1);
-    }
-    if (vtkInterval > 0 && (n + 1) % vtkInterval == 0 && n + 1 != steps_) writeVtk(tNew);
-    if (checkpointInterval > 0 && (n + 1) % checkpointInterval == 0) writeCheckpointAt(n + 1, r, history);
-    if (progress && rank == 0) {
-      const auto now = clock::now();
-      const double elapsed = std::chrono::duration<double>(now - start).count();
-      const double sinceLast = std::chrono::duration<double>(now - lastPrint).count();
-      if (elapsed > 3.0 && sinceLast > (tty ? 0.5 : 10.0)) {
-        const double eta = elapsed / (n + 1 - firstStep) * (steps_ - n - 1);
-        std::fprintf(stderr, "%sstep %d/%d  t = %.4e s  %3.0f%%  elapsed %.1f s  ETA %.1f s%s", tty ? "\r" : "", n + 1,
-                     steps_, tNew, 100.0 * (n + 1) / steps_, elapsed, eta, tty ? "   " : "\n");
-        lastPrint = now;
-        printedProgress = true;
-      }
-    }
+    observers.afterStep({n + 1, tNew}, r);
   }
-  if (printedProgress && tty && rank == 0) std::fprintf(stderr, "\n");
   r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
   r.particleStepsPerSecond = r.wallSeconds > 0 ? double(r.particles) * (steps_ - firstStep) / r.wallSeconds : 0.0;
-  writeVtk(steps_ * dt_);
-  history.close();
-  history.finish(r);
-  writeSummaryOnRoot(r);
-  if (rank == 0) {
-    log << deck_.sublist("Problem").get<std::string>("Name") << ": " << integrator_->name() << ", "
-        << materials_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in " << std::setprecision(3)
-        << r.wallSeconds << " s (" << r.particleStepsPerSecond / 1e6 << " M particle-steps/s)\n";
-    for (const auto& [name, err] : r.relativeL2)
-      log << "  relative L2 error of " << name << " against the exact solution (modulus " << std::setprecision(4)
-          << exactModulus() << " Pa): " << std::setprecision(3) << 100 * err << " %\n";
-    if (r.hasFieldError())
-      log << "  displacement field error against the exact solution: RMS " << std::setprecision(3) << r.fieldErrorRmsEnd
-          << " m, max " << r.fieldErrorMaxEnd << " m at the end (peaks over the run " << r.fieldErrorRmsPeak << ", "
-          << r.fieldErrorMaxPeak << " m)\n";
-    if (energyHistory_)
-      log << "  total energy drift " << std::setprecision(3) << r.energyRelativeDrift << " (max deviation "
-          << r.energyMaxRelativeDeviation << "), momentum max relative change " << r.momentumMaxRelativeChange << "\n";
-  }
+  observers.end({steps_, steps_ * dt_}, r);
+  if (comm_->getRank() == 0) reportRun(r, log);
   return r;
+}
+
+// Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.
+void Simulation::createOutputDirectory() const {
+  rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] {
+    std::error_code ec;
+    std::filesystem::create_directories(outputDir_, ec);
+    if (ec) throw DeckError(outputKey_ + " = '" + outputDir_ + "' cannot be created: " + ec.message());
+  });
+}
+
+// Why the state of `step` is bad: a non-finite or inverted particle (named), or a strain of order one.
+std::string Simulation::divergenceMessage(double divergence, int step, double t) const {
+  std::string why;
+  if (std::isinf(divergence)) {
+    const std::string which = describeBadParticle();
+    why = which.empty() ? std::string("a particle velocity or stress is not finite") : which;
+  } else {
+    why = "a particle stress is " + formatNumber(divergence) + " times its material's P-wave modulus (a strain of order one)";
+  }
+  return "the run diverged at step " + std::to_string(step) + " (t = " + formatNumber(t) + " s): " + why;
+}
+
+// The closing lines: the run, its errors against the exact solution, the energy drift.
+void Simulation::reportRun(const RunResult& r, std::ostream& log) const {
+  log << deck_.sublist("Problem").get<std::string>("Name") << ": " << integrator_->name() << ", "
+      << materials_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in " << std::setprecision(3)
+      << r.wallSeconds << " s (" << r.particleStepsPerSecond / 1e6 << " M particle-steps/s)\n";
+  for (const auto& [name, err] : r.relativeL2)
+    log << "  relative L2 error of " << name << " against the exact solution (modulus " << std::setprecision(4)
+        << exactModulus() << " Pa): " << std::setprecision(3) << 100 * err << " %\n";
+  if (r.hasFieldError())
+    log << "  displacement field error against the exact solution: RMS " << std::setprecision(3) << r.fieldErrorRmsEnd
+        << " m, max " << r.fieldErrorMaxEnd << " m at the end (peaks over the run " << r.fieldErrorRmsPeak << ", "
+        << r.fieldErrorMaxPeak << " m)\n";
+  if (energyHistory_)
+    log << "  total energy drift " << std::setprecision(3) << r.energyRelativeDrift << " (max deviation "
+        << r.energyMaxRelativeDeviation << "), momentum max relative change " << r.momentumMaxRelativeChange << "\n";
 }
 
 }  // namespace impm

@@ -106,6 +106,9 @@ class Simulation {
   // What to change when the run diverged (the time step, with the explicit critical step).
   std::string timeStepAdvice() const;
   void writeSummary(const RunResult& r) const;
+  void createOutputDirectory() const;
+  std::string divergenceMessage(double divergence, int step, double t) const;
+  void reportRun(const RunResult& r, std::ostream& log) const;
   // Output/Checkpoint Interval: the state after `step` (particles, integrator, history rows).
   void writeCheckpointAt(int step, const RunResult& r, const History& history) const;
   // The particle nearest a point at t = 0 over all ranks.

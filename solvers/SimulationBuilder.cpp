@@ -27,7 +27,8 @@
 #include "core/InputDeck.hpp"
 #include "physics/InitialConditions.hpp"
 #include "solvers/ExplicitStepper.hpp"
-#include "solvers/ImplicitNewmark.hpp"
+#include "physics/materials/MaterialRegistry.hpp"
+#include "solvers/implicit/ImplicitNewmark.hpp"
 
 namespace impm {
 
@@ -196,7 +197,7 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
                     formatNumber(loadBalanceThreshold_));
   try {
     particles_ = createParticles(bodies_, materials_, *dist_, placement_, thickness_);
-    if (materials_.anyHistory()) particles_.allocateHistory();
+    materials_.initializeHistory(particles_);
   } catch (const std::invalid_argument& e) {
     throw DeckError(e.what());
   }
@@ -286,37 +287,15 @@ void Simulation::buildMaterialsAndBodies() {
   std::vector<MaterialParameters> params;
   for (auto it = ms.begin(); it != ms.end(); ++it) {
     const std::string name = ms.name(it), key = "Materials/" + name;
-    const ParameterList& m = ms.sublist(name);
-    MaterialParameters p;
-    p.E = positive(m, key, "Young Modulus");
-    p.density = positive(m, key, "Density");
-    p.nu = m.get<double>("Poisson Ratio");
-    if (!(p.nu > -1.0 && p.nu < 0.5))
-      throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + formatNumber(p.nu));
-    const std::string model = m.get<std::string>("Model");
-    p.model = model == "Neo-Hookean"     ? MaterialModel::NeoHookean
-              : model == "J2 Plasticity" ? MaterialModel::J2Plasticity
-                                         : MaterialModel::LinearElastic;
-    if (p.model != MaterialModel::LinearElastic) {
+    const MaterialParameters p = readMaterial(ms.sublist(name), key, [&](const MaterialModelInfo& model) {
+      if (!model.finiteStrain) return;
       if (grid_.dim == 2 && deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress")
-        throw DeckError("'" + key + "/Model' = " + model + " is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
+        throw DeckError("'" + key + "/Model' = " + model.name + " is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
                         "would need the out-of-plane stretch solved per particle (use Plane Strain or Grid/Dimension 3)");
       if (shapeInfo(shape_).fixedParticles)
-        throw DeckError("'" + key + "/Model' = " + model + " needs moving particles; 'Method/Shape Function' = " + shape_ +
+        throw DeckError("'" + key + "/Model' = " + model.name + " needs moving particles; 'Method/Shape Function' = " + shape_ +
                         " is the small-strain finite-element reference (use MPM, GIMP or cpGIMP)");
-    }
-    if (p.model == MaterialModel::J2Plasticity) {
-      p.yieldStress = positive(m, key, "Yield Stress");
-      p.hardening = m.get<double>("Hardening Modulus");
-      if (!(p.hardening >= 0))
-        throw DeckError("'" + key + "/Hardening Modulus' must not be negative, got " + formatNumber(p.hardening));
-    } else {
-      // (A value, not whether it was written: a validated deck written out and read back has
-      // its defaults written too.)
-      for (const char* plastic : {"Yield Stress", "Hardening Modulus"})
-        if (m.isParameter(plastic) && m.get<double>(plastic) != 0.0)
-          throw DeckError("'" + key + "/" + plastic + "' is a J2 Plasticity parameter; 'Model' = " + model + " does not use it");
-    }
+    });
     params.push_back(p);
     materialNames_.push_back(name);
   }

@@ -14,7 +14,7 @@
 #include "core/InputDeck.hpp"
 #include "physics/Body.hpp"
 #include "core/kernels/Energy.hpp"
-#include "solvers/ImplicitNewmark.hpp"
+#include "solvers/implicit/ImplicitNewmark.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// Preconditioner: MUELU (smoothed-aggregation AMG, solvers/MueLuPreconditioner.cpp). On the seed
+// Preconditioner: MUELU (smoothed-aggregation AMG, solvers/newton/MueLuPreconditioner.cpp). On the seed
 // beam (apps/beam_implicit_mpm_plane_strain.yaml: implicit MPM, Jacobian-free Newton-Krylov,
 // linear tolerance 1e-8) at 80 x 8 and 160 x 16 cells (hierarchies of 2 and 3 levels): at most 10
 // GMRES iterations per Newton iteration on average, and the mid-span deflection of the direct
@@ -17,9 +17,10 @@
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
-#include "solvers/ImplicitModelEvaluator.hpp"
-#include "solvers/MueLuPreconditioner.hpp"
-#include "solvers/NewtonSolver.hpp"
+#include "solvers/newton/IfpackPreconditioner.hpp"
+#include "solvers/newton/ImplicitModelEvaluator.hpp"
+#include "solvers/newton/MueLuPreconditioner.hpp"
+#include "solvers/newton/NewtonSolver.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {

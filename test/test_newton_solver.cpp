@@ -1,4 +1,4 @@
-// NewtonSolver (solvers/NewtonSolver.hpp) on a toy implicit Newmark step of a 1D bar:
+// NewtonSolver (solvers/newton/NewtonSolver.hpp) on a toy implicit Newmark step of a 1D bar:
 //   R(u) = (4/dt^2) M u + K u + c u^3 - f
 // with lumped mass M, the stiffness K = E/h tridiag(-1, 2, -1) of fixed-fixed linear elements,
 // a cubic spring c u^3 per node (c = 0: linear) and uniform nodal loads f. P = 4/dt^2 M + K + 3 c diag(u^2)
@@ -6,7 +6,7 @@
 // so u ~ 1e-3 (displacement-like), ||R(0)|| ~ 1, and with c = kCubic the cubic term's stiffness 3 c u^2 is
 // comparable to the inertia term 4/dt^2 m.
 // Runs at np = 1 and np = 2.
-#include "solvers/NewtonSolver.hpp"
+#include "solvers/newton/NewtonSolver.hpp"
 
 #include <Teuchos_CommandLineProcessor.hpp>
 #include <Teuchos_UnitTestHarness.hpp>

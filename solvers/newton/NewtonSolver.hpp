@@ -22,7 +22,8 @@
 #pragma once
 
 #include "core/Types.hpp"
-#include "solvers/ResidualModel.hpp"
+#include "solvers/newton/NewtonParameters.hpp"
+#include "solvers/newton/ResidualModel.hpp"
 
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
@@ -67,7 +68,7 @@ struct NewtonResult {
   bool reusedSetUp = false;
 };
 
-class PreconditionerCache;  // solvers/ImplicitModelEvaluator.hpp
+class PreconditionerCache;  // solvers/newton/PreconditionerCache.hpp
 
 class NewtonSolver {
  public:
@@ -79,7 +80,7 @@ class NewtonSolver {
   NewtonSolver(const NewtonSolver&) = delete;
   NewtonSolver& operator=(const NewtonSolver&) = delete;
 
-  static Teuchos::RCP<const Teuchos::ParameterList> validParameters();
+  static Teuchos::RCP<const Teuchos::ParameterList> validParameters() { return newtonValidParameters(); }
 
   // Solves R(u) = 0 starting from u (in: initial guess, out: solution). u must be on
   // model.unknownMap(). Collective. u holds the last iterate even when not converged.
@@ -92,36 +93,36 @@ class NewtonSolver {
   int setUpBuilds() const { return setUpBuilds_; }
 
  private:
-  enum class JacobianMode { JacobianFree, Assembled };
-  enum class AssembledSolver { Amesos2, Belos };
-
   Teuchos::RCP<Teuchos::ParameterList> params_;
-  JacobianMode jacobian_ = JacobianMode::JacobianFree;
-  AssembledSolver assembledSolver_ = AssembledSolver::Amesos2;
-  std::string precType_;
-  double displacementTol_ = 0, energyTol_ = 0, residualTol_ = 0, magnitudeTol_ = 0, linearTol_ = 0;
-  int maxNewton_ = 0, maxKrylov_ = 0;
-
-  Teuchos::RCP<Teuchos::ParameterList> noxParams_;          // NOX sublist + our defaults
-  Teuchos::RCP<Teuchos::ParameterList> jfnkParams_;         // matrix-free operator settings
+  NewtonSettings settings_;
   Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lowsFactory_;
-  Teuchos::RCP<PreconditionerCache> prec_;                  // Ifpack2; null for "None" / direct solves
+  Teuchos::RCP<PreconditionerCache> prec_;                  // Ifpack2 or MueLu; null for "None" / direct solves
   // Assembled + Amesos2 on more than one rank: Amesos2 13.2's KLU2 gives wrong solutions once the
   // matrix is distributed (its gathered-matrix path), so P is gathered to rank 0 and factored there by
   // KLU2 on a serial communicator; that exact inverse preconditions one GMRES iteration.
   Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> gatheredLowsFactory_;
   Teuchos::RCP<PreconditionerCache> gatheredDirect_;
 
-  // What solve() keeps between calls (solvers/NewtonSolver.cpp); null before the first call and after
+  // What solve() keeps between calls (solvers/newton/NewtonSolver.cpp); null before the first call and after
   // a call that threw.
   struct NoxSetUp;
   std::unique_ptr<NoxSetUp> nox_;
   int setUpBuilds_ = 0;
 
-  bool usesPreconditioner() const;
   // Whether nox_ was built for this model and map (collective: one reduction over the map's
   // communicator, so that every rank takes the same branch).
   bool canReuse(const ResidualModel& model, const Map& map, bool gathered) const;
+  // The model evaluator and NOX group for this model and map (a new set-up), or the kept ones
+  // reset to the initial guess u.
+  void buildSetUp(ResidualModel& model, const Teuchos::RCP<const Map>& map, const Vector& u, bool gathered,
+                  const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& lows,
+                  const Teuchos::RCP<PreconditionerCache>& prec);
+  void resetSetUp(const Vector& u);
+  // Status tests: finite residual, then (NormF OR (displacement AND energy) OR magnitude), then
+  // MaxIters; and the NOX solver over them.
+  void buildStatusTestsAndSolver(ResidualModel& model);
+  // Why NOX stopped, in words (NewtonResult::reason).
+  std::string describeOutcome(const NewtonResult& result, int status) const;
 };
 
 }  // namespace impm

@@ -1,4 +1,4 @@
-#include "solvers/ConvergenceTests.hpp"
+#include "solvers/newton/ConvergenceTests.hpp"
 
 #include <NOX_Abstract_Group.H>
 #include <NOX_Solver_Generic.H>

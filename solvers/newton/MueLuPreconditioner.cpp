@@ -1,4 +1,4 @@
-#include "solvers/MueLuPreconditioner.hpp"
+#include "solvers/newton/MueLuPreconditioner.hpp"
 
 #include <stdexcept>
 #include <string>

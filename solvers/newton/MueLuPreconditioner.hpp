@@ -5,7 +5,7 @@
 // Trilinos (IMPM_HAVE_MUELU); otherwise MUELU is refused at deck validation.
 #pragma once
 
-#include "solvers/ImplicitModelEvaluator.hpp"
+#include "solvers/newton/PreconditionerCache.hpp"
 
 #include <Teuchos_ParameterList.hpp>
 

@@ -22,7 +22,7 @@
 
 #include <Teuchos_RCP.hpp>
 
-#include "solvers/ResidualModel.hpp"
+#include "solvers/newton/ResidualModel.hpp"
 
 #include <iosfwd>
 

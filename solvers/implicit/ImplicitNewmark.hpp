@@ -1,13 +1,17 @@
-// Implicit MPM/GIMP after Guilkey & Weiss (2003), extended to GIMP (the seed, slides 2-6):
-// Newmark average acceleration on the grid, solved for the grid displacement increment u of
+// Implicit MPM/GIMP after Guilkey & Weiss (2003), extended to GIMP (the seed, slides 2-6): the
+// step driver. Newmark on the grid (solvers/implicit/NewmarkScheme.hpp), solved for the grid displacement increment u of
 // the step by a Newton iteration (NewtonSolver: NOX Jacobian-free Newton-Krylov, or Newton
 // with the assembled stiffness).
 //
 //   R(u) = M (4/dt^2 u - 4/dt v - a) + F_int(u) - F_ext(t + dt) = 0   on the free dofs,
 //
 // where F_int(u) comes from the trial particle stresses sigma_p + D sym(grad u) through the
-// same internal-force kernel the explicit stepper uses. Constrained components and nodes
-// without mass are not unknowns (see ImplicitOptions::massTolerance).
+// same internal-force kernel the explicit stepper uses. Prescribed components and nodes
+// without mass are not unknowns (see ImplicitOptions::massTolerance). One step:
+//   setUpStep     particles to grid, the grid state at t, prescribed motion, free dofs (FreeDofMap)
+//   Newton        residual(u) and jacobianMatrix(u) (StiffnessAssembler, PreconditionerRefresh)
+//   finishStep    reactions, grid acceleration and velocity increment, stress, particle update
+// with StepControl halving or sub-stepping a step whose Newton iteration fails.
 #pragma once
 
 #include <Teuchos_ParameterList.hpp>
@@ -20,23 +24,16 @@
 #include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
-#include "solvers/NewtonSolver.hpp"
+#include "solvers/newton/NewtonSolver.hpp"
 #include "solvers/ProjectionCorrection.hpp"
+#include "solvers/implicit/FreeDofMap.hpp"
+#include "solvers/implicit/ImplicitStatistics.hpp"
+#include "solvers/implicit/NewmarkScheme.hpp"
+#include "solvers/implicit/PreconditionerRefresh.hpp"
+#include "solvers/implicit/StepControl.hpp"
+#include "solvers/implicit/StiffnessAssembler.hpp"
 
 namespace impm {
-
-// The Newmark family on the grid:
-//   u     = dt v + dt^2 ((1/2 - beta) a + beta a_new)   ->  a_new = c1 u - c2 v - c3 a
-//   v_new = v + dt ((1 - gamma) a + gamma a_new)
-// Average acceleration (beta = 1/4, gamma = 1/2, the default) conserves energy; gamma > 1/2 damps
-// the highest frequencies (most with beta = (gamma + 1/2)^2 / 4).
-struct NewmarkScheme {
-  double beta = 0.25, gamma = 0.5;
-  double c1(double dt) const { return 1.0 / (beta * (dt * dt)); }
-  double c2(double dt) const { return 1.0 / (beta * dt); }
-  double c3() const { return 0.5 / beta - 1.0; }
-  bool averageAcceleration() const { return beta == 0.25 && gamma == 0.5; }
-};
 
 struct ImplicitOptions {
   NewmarkScheme newmark;
@@ -88,10 +85,6 @@ struct ImplicitOptions {
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 
-struct NewtonNotConverged : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
 template <class Shape, int Dim = 2>
 class ImplicitNewmark : public Integrator, public ResidualModel {
  public:
@@ -116,32 +109,38 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void prepareStep(double t, double dt) { setUpStep(t, dt); }
 
   // ResidualModel (for the current step's set-up).
-  Teuchos::RCP<const Map> unknownMap() const override { return unknownMap_; }
+  Teuchos::RCP<const Map> unknownMap() const override { return dofs_.map(); }
   void residual(const Vector& u, Vector& R) override;
   Teuchos::RCP<const CrsMatrix> jacobianMatrix(const Vector& u) override;
-  long jacobianVersion() const override { return preconditionerVersion_; }
-  Teuchos::RCP<const MultiVector> unknownCoordinates() const override;
+  long jacobianVersion() const override { return refresh_.preconditionerVersion(); }
+  Teuchos::RCP<const MultiVector> unknownCoordinates() const override { return dofs_.coordinates(dist_.grid()); }
   int unknownsPerNode() const override { return Dim; }
   double residualMagnitude(const Vector& u) override;
 
   // Statistics of the run so far.
-  const std::vector<int>& newtonIterationsPerStep() const { return newtonPerStep_; }
-  const std::vector<int>& krylovIterationsPerNewton() const { return krylovPerNewton_; }
+  const std::vector<int>& newtonIterationsPerStep() const { return statistics_.newtonIterationsPerStep(); }
+  const std::vector<int>& krylovIterationsPerNewton() const { return statistics_.krylovIterationsPerNewton(); }
 
  private:
   using Exec = ExecutionSpace;
-  void setUpStep(double t, double dt);   // grid state at t, external force at t + dt, free dofs
-  bool trySteps(double t, double dt, int depth);
-  // One Newton solve of the step [t, t + dt]; false when Newton failed (nothing changed).
-  bool solveStep(double t, double dt);
-  void stepAdaptive(double t, double dt);
+  // The step's set-up: particles to grid at t (mass, momentum, m a; F_ext at t + dt), the grid's
+  // v and a at t, the prescribed motion and the free dofs.
+  void setUpStep(double t, double dt);
+  void forcesAtStart(double t);          // F_int + F_ext at t, for the acceleration from forces
+  void startKinematics(bool initialAcceleration);  // v, a at t from the momentum sums or the grid
+  void normalizeGridState(double t, double dt, bool accelerationFromForces);
+  StepControl::Outcome solveStep(double t, double dt);  // one Newton solve of [t, t + dt]
   void finishStep(const Vector& u);      // grid and particle update with the converged u
+  void gridUpdate();                     // a_new and the velocity increment on the grid
+  void updateParticles();                // stress, then x, v, a of the particles
   void recordReactions(const Vector& u); // the grid conditions' reactions: the residual at their dofs
   void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
   void correctProjection();              // consistent-mass correction of v and a on the grid
   bool equilibriumAcceleration() const {
     return opt_.equilibriumAcceleration && !opt_.consistentMass && !opt_.fixedParticles;
   }
+  bool jacobianFree() const;
+  BlockMatrices stiffnessBlocks(bool trialTangent) const;
 
   ParticleSet& ps_;
   const GridDistribution& dist_;
@@ -153,54 +152,27 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   std::unique_ptr<NewtonSolver> solver_;
   double dt_ = 0, massCutoff_ = 0;
   bool firstStep_ = true;
+  bool seedGimpStiffness_ = false;  // the seed's overlap-integrated K (GIMP, 2D): cell blocks
 
-  // Owned and ghosted node multivectors: grid state (mass, v, a, F_ext), displacement, force.
+  // Owned and ghosted node multivectors (solvers/implicit/ImplicitGridColumns.hpp): grid state
+  // (mass, v, a, F_ext, free flags), displacement, force.
   Teuchos::RCP<MultiVector> stateOwned_, stateGhosted_, dispOwned_, dispGhosted_, forceOwned_, forceGhosted_;
-  // Free dofs of this step: owned local node and component, and the unknown map.
-  Kokkos::View<int*, DeviceType> freeNode_, freeComp_;
-  Teuchos::RCP<const Map> unknownMap_;
-  std::vector<GO> freeGids_;
+  FreeDofMap<Dim> dofs_;
   Teuchos::RCP<Vector> lastResidualPoint_;  // the u of the last residual (its forces are in forceOwned_)
-  mutable Teuchos::RCP<MultiVector> unknownCoords_;  // built on first request for unknownMap_
 
-  // The assembled matrix of the current step; its graph (and the overlap matrix and Export
-  // it is summed through) is reused while the pattern of particle-cell pairs and free dofs
-  // stays the same, so that only values are refilled and Ifpack2 keeps its symbolic set-up.
-  Teuchos::RCP<CrsMatrix> P_, overlapP_;
-  Teuchos::RCP<const Export> pExporter_;
-  std::vector<GO> patternKey_;
+  // The assembled matrix: valid for this step's set-up (PCurrent_), assembled when the refresh
+  // policy says so.
+  StiffnessAssembler<Dim> assembler_;
+  PreconditionerRefresh refresh_;
   bool PCurrent_ = false;
-  long jacobianVersion_ = 0;       // bumped at every (re)assembly
-  long preconditionerVersion_ = 0; // bumped when the preconditioner must be refactored
-  int stepsSinceAssembly_ = 0;
-  bool refreshRequested_ = false;
-  // Offsets into overlapP_'s local values: per ghost-region block and local dof pair (r, c), and
-  // per owned free dof for the mass diagonal.
-  std::vector<size_t> blockOffsets_, diagOffsets_;
   // |P| (P's values in absolute value) for residualMagnitude, and the P version it was taken of.
   Teuchos::RCP<CrsMatrix> absP_;
   long absPVersion_ = -1;
-  // Blocks of the assembled stiffness: nodes per direction and spacing of their first nodes
-  // (cells: 2 and 1; Q9 elements: 3 and 2; GIMP and quadratic B-spline stencils: 3 and 1; cubic B-splines: 4 and 1).
-  int blockNodes_ = 2, blockStride_ = 1;
-  bool seedGimpStiffness_ = false;  // the seed's overlap-integrated K (GIMP only)
+  std::vector<double> restoredP_;  // a checkpoint's P, taken at the first jacobianMatrix()
   Teuchos::RCP<MultiVector> gridKinematics_;  // fixed particles: grid v, a at the end of the last step
 
-  // Restart: the checkpoint's P (per row: gid, entry count, then column gid and value pairs),
-  // taken as P_ at the first jacobianMatrix() when its rows are this step's free dofs.
-  std::vector<double> restoredP_;
-  void takeRestoredP();
-
-  std::vector<int> newtonPerStep_, krylovPerNewton_;
-  int halvings_ = 0;
-  std::string lastFailure_;  // the reason of the last Newton solve that failed (for the message)
-  int hardestStepIterations_ = -1;
-  std::vector<double> hardestStepNorms_;
-  // Adaptive time step: the sub-step carried from step to step (0: not started), the counts.
-  double subStep_ = 0.0, smallestSubStep_ = 0.0, largestSubStep_ = 0.0;
-  long long subSteps_ = 0, rejectedSubSteps_ = 0;
-  long residualEvaluations_ = 0;
-  double secondsSetUp_ = 0, secondsSolve_ = 0, secondsSolverSetUp_ = 0, secondsFinish_ = 0;
+  StepControl control_;
+  ImplicitStatistics statistics_;
 };
 
 }  // namespace impm

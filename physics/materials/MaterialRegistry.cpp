@@ -1,0 +1,130 @@
+#include "physics/materials/MaterialRegistry.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "core/DeckSchema.hpp"
+#include "core/InputDeck.hpp"
+
+namespace impm {
+
+using Teuchos::ParameterList;
+
+namespace {
+
+void noParameters(ParameterList&) {}
+void readNothing(const ParameterList&, const std::string&, MaterialParameters&) {}
+
+void addJ2Parameters(ParameterList& pl) {
+  schema::number(pl, "Yield Stress", 0.0, "J2 Plasticity: initial yield stress sigma_y (Pa, > 0)");
+  schema::number(pl, "Hardening Modulus", 0.0, "J2 Plasticity: linear isotropic hardening modulus H (Pa, >= 0)");
+}
+
+void readJ2(const ParameterList& m, const std::string& key, MaterialParameters& p) {
+  p.yieldStress = schema::positive(m, key, "Yield Stress");
+  p.hardening = m.get<double>("Hardening Modulus");
+  if (!(p.hardening >= 0))
+    throw DeckError("'" + key + "/Hardening Modulus' must not be negative, got " + formatNumber(p.hardening));
+}
+
+}  // namespace
+
+const std::vector<MaterialModelInfo>& materialModels() {
+  static const std::vector<MaterialModelInfo> models = {
+      {MaterialModel::LinearElastic, "Linear Elastic", "small strain (the seed problems)", false, 0, noParameters, {},
+       readNothing},
+      {MaterialModel::NeoHookean, "Neo-Hookean",
+       "compressible hyperelastic at finite strain, W = mu/2 (tr b - 3) - mu ln J + lambda/2 (ln J)^2 with the Lame "
+       "constants of Young Modulus and Poisson Ratio",
+       true, 0, noParameters, {}, readNothing},
+      {MaterialModel::J2Plasticity, "J2 Plasticity",
+       "von Mises elastoplasticity at finite strain (multiplicative split, Hencky elasticity, radial return, linear "
+       "isotropic hardening: Yield Stress, Hardening Modulus)",
+       true, J2PlasticityModel::historyCount, addJ2Parameters, {"Yield Stress", "Hardening Modulus"}, readJ2},
+  };
+  static const bool historyFits = std::all_of(models.begin(), models.end(), [](const MaterialModelInfo& m) {
+    return m.historyWidth <= ParticleSet::kHistoryCount;
+  });
+  if (!historyFits) throw std::logic_error("a material model's history is wider than ParticleSet::kHistoryCount");
+  return models;
+}
+
+const MaterialModelInfo& materialModel(MaterialModel model) {
+  for (const auto& m : materialModels())
+    if (m.model == model) return m;
+  throw std::logic_error("material model " + std::to_string(int(model)) + " is not registered");
+}
+
+const MaterialModelInfo* findMaterialModel(const std::string& name) {
+  for (const auto& m : materialModels())
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+Teuchos::RCP<const ParameterList> materialSchema() {
+  auto pl = Teuchos::rcp(new ParameterList("Materials"));
+  std::vector<std::string> names;
+  std::string doc = "constitutive model. ";
+  for (const auto& m : materialModels()) {
+    names.push_back(m.name);
+    doc += m.name + ": " + m.summary + (&m == &materialModels().back() ? ". " : "; ");
+  }
+  doc += "The finite-strain models are plane strain or 3D, not with FE Q4/Q9";
+  schema::choice(*pl, "Model", "Linear Elastic", names, doc);
+  for (const auto& m : materialModels()) m.addParameters(*pl);
+  schema::number(*pl, "Young Modulus", 200.0e9, "E (Pa)");
+  schema::number(*pl, "Poisson Ratio", 0.3, "nu, in (-1, 0.5)");
+  schema::number(*pl, "Density", 7800.0, "rho (kg/m^3)");
+  return pl;
+}
+
+bool Materials::anyFiniteStrain() const {
+  return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return materialModel(p.model).finiteStrain; });
+}
+
+bool Materials::anyHistory() const {
+  return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return materialModel(p.model).historyWidth > 0; });
+}
+
+std::string Materials::modelName(MaterialModel m) { return materialModel(m).name; }
+
+void Materials::initializeHistory(ParticleSet& ps) const {
+  if (!anyHistory()) return;
+  ps.allocateHistory();
+  auto h = ps.history;
+  auto material = ps.material;
+  const Law law = law_;
+  Kokkos::parallel_for(
+      "initial_history", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        double row[ParticleSet::kHistoryCount];
+        law.initialHistory(material(p), row);
+        for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h(p, i) = row[i];
+      });
+}
+
+MaterialParameters readMaterial(const ParameterList& m, const std::string& key,
+                                const std::function<void(const MaterialModelInfo&)>& admissible) {
+  MaterialParameters p;
+  p.E = schema::positive(m, key, "Young Modulus");
+  p.density = schema::positive(m, key, "Density");
+  p.nu = m.get<double>("Poisson Ratio");
+  if (!(p.nu > -1.0 && p.nu < 0.5))
+    throw DeckError("'" + key + "/Poisson Ratio' must lie in (-1, 0.5), got " + formatNumber(p.nu));
+  const std::string name = m.get<std::string>("Model");
+  const MaterialModelInfo* model = findMaterialModel(name);
+  if (!model) throw DeckError("'" + key + "/Model' = " + name + " is not a material model");
+  p.model = model->model;
+  admissible(*model);
+  model->read(m, key, p);
+  // Another model's key with a value (not whether it was written: a validated deck written out
+  // and read back has its defaults written too).
+  for (const auto& other : materialModels()) {
+    if (&other == model) continue;
+    for (const auto& k : other.parameterKeys)
+      if (m.isParameter(k) && m.get<double>(k) != 0.0)
+        throw DeckError("'" + key + "/" + k + "' is a " + other.name + " parameter; 'Model' = " + name + " does not use it");
+  }
+  return p;
+}
+
+}  // namespace impm

@@ -1,0 +1,76 @@
+// The assembled matrix P of an implicit step: the block matrices of the stiffness kernels (one
+// dense block per particle, or per particle-cell pair for the seed's GIMP stiffness) summed into a
+// Tpetra CrsMatrix over the free dofs, plus an optional lumped-mass diagonal.
+//
+// The graph is built once per pattern of free dofs a rank sees: every block of the rank's ghost
+// region couples its free dofs (blocks without particles hold zeros), so that moving particles
+// only change values and Ifpack2 keeps its symbolic set-up. Each rank fills an overlap matrix
+// over its ghost region and one Export sums the overlapping rows.
+//
+// Values are filled on the device and deterministically: every matrix entry sums its block
+// contributions in block order, the order of a sequential loop over the blocks, so that P is the
+// same bit for bit at any thread count.
+#pragma once
+
+#include <Tpetra_CrsMatrix.hpp>
+#include <vector>
+
+#include "core/GridDistribution.hpp"
+#include "core/kernels/Stiffness.hpp"
+#include "solvers/newton/ResidualModel.hpp"
+#include "solvers/implicit/FreeDofMap.hpp"
+
+namespace impm {
+
+template <int Dim>
+class StiffnessAssembler {
+ public:
+  // Blocks of blockNodes nodes per direction (fewer on a grid with fewer nodes) whose first nodes
+  // are multiples of blockStride (2 for Q9 elements, else 1).
+  StiffnessAssembler(const GridDistribution& dist, int blockNodes, int blockStride);
+
+  // The graph for the free dofs flagged (> 1/2) in columns freeX.. of the ghosted grid state;
+  // kept while that set is unchanged on every rank. Collective. True when (re)built.
+  bool updatePattern(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs);
+
+  // P = sum of the blocks + massFactor diag(m) at the free dofs (when lumpedMass is given: the
+  // mass in its column massColumn). Requires updatePattern for this step's dofs.
+  void fill(const BlockMatrices& blocks, const FreeDofMap<Dim>& dofs, const MultiVector* lumpedMass,
+            int massColumn, double massFactor);
+
+  Teuchos::RCP<CrsMatrix> matrix() const { return P_; }
+  void forgetMatrix() { P_ = Teuchos::null; }
+
+  // Checkpoint: P's rows (per row: gid, entry count, then column gid and value pairs), and P
+  // taken back when its rows are the free dofs on every rank (collective; false otherwise). The
+  // graph is rebuilt at the next updatePattern.
+  void save(std::vector<double>& rows) const;
+  bool restore(const std::vector<double>& rows, const FreeDofMap<Dim>& dofs);
+
+ private:
+  // The blocks of the rank's ghost region, numbered x slowest.
+  struct BlockGrid {
+    int nodes[3] = {1, 1, 1}, first[3] = {0, 0, 0}, count[3] = {1, 1, 1}, stride = 1;
+    KOKKOS_INLINE_FUNCTION long index(int bi, int bj, int bk) const {
+      return (long((bi - first[0]) / stride) * count[1] + (bj - first[1]) / stride) * count[2] + (bk - first[2]) / stride;
+    }
+    long size() const { return long(count[0]) * count[1] * count[2]; }
+    int nodeCount() const { return nodes[0] * nodes[1] * nodes[2]; }
+  };
+  template <class Visit>
+  void forEachBlockCoupling(const MultiVector& stateGhosted, int freeX, Visit&& visit) const;
+  void buildGraph(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs);
+  void sumBlocks(const BlockMatrices& blocks) const;
+
+  const GridDistribution& dist_;
+  BlockGrid blocks_;
+  int nd_ = 0;  // dofs per block
+  Teuchos::RCP<CrsMatrix> P_, overlapP_;
+  Teuchos::RCP<const Export> exporter_;
+  std::vector<GO> patternKey_;
+  // Offsets into overlapP_'s values: per block and local dof pair (r, c) (-1: not free), and per
+  // free dof for its diagonal.
+  Kokkos::View<long*, DeviceType> blockOffsets_, diagonalOffsets_;
+};
+
+}  // namespace impm
