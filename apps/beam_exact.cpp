@@ -22,6 +22,7 @@
 #include <string>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "physics/BeamTheories.hpp"
 #include "physics/ExactSolutions.hpp"
 

@@ -24,6 +24,7 @@
 #include <Teuchos_YamlParameterListCoreHelpers.hpp>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
 #include "core/FloatingPoint.hpp"
 

@@ -30,6 +30,7 @@
 #include <string>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "core/PhaseTimer.hpp"
 #include "solvers/newton/NewtonSolver.hpp"
 #include "solvers/Simulation.hpp"

@@ -1,7 +1,7 @@
 // Every shape function a deck can name ('Method/Shape Function'), with its C++ type and the facts
 // the set-up needs, in one list. The builder asks the list (shapeInfo) and dispatches on types
 // through it (visitShape) instead of testing the name; a new shape function is one entry here
-// (and its explicit instantiations in solvers/ExplicitStepper.cpp and solvers/ImplicitNewmark.cpp).
+// (and its explicit instantiations in solvers/ExplicitStepper.cpp and solvers/implicit/ImplicitNewmark<Family>.cpp).
 #pragma once
 
 #include <stdexcept>

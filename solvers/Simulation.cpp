@@ -246,16 +246,8 @@ RunResult Simulation::run(std::ostream& log) {
 
   History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_, &constraints_);
   rethrowOnEveryRank(*comm_, true, [&] { history.open(outputDir_ + "/history.csv", out.get<int>("History Digits")); });
-  const int historyInterval = out.get<int>("History Interval");  // >= 1, checked by the builder
   RunObservers observers;
-  auto& historyOutput = observers.add(
-      std::make_unique<HistoryOutput>(history, restarted_, restartState_, historyInterval, steps_, dt_));
-  observers.add(std::make_unique<ParticleOutput>(particles_, comm_, outputDir_, restarted_, out.get<int>("VTK Interval"),
-                                                 historyInterval, steps_, dt_));
-  observers.add(std::make_unique<CheckpointOutput>(
-      out.get<int>("Checkpoint Interval"), [&](int step, const RunResult& result) { writeCheckpointAt(step, result, history); }));
-  observers.add(std::make_unique<ProgressLine>(out.get<bool>("Progress") && comm_->getRank() == 0, steps_));
-  observers.add(std::make_unique<SummaryOutput>(comm_, [&](const RunResult& result) { writeSummary(result); }));
+  const HistoryOutput& historyOutput = addObservers(observers, history);
 
   // Load balance (Decomposition/Load Balance Interval): at the start and every interval steps,
   // when the imbalance exceeds the threshold. Monitors follow their particles by global id.
@@ -331,6 +323,23 @@ RunResult Simulation::run(std::ostream& log) {
   observers.end({steps_, steps_ * dt_}, r);
   if (comm_->getRank() == 0) reportRun(r, log);
   return r;
+}
+
+// The run's outputs, in the order they act: history rows, ParaView files (and the last good
+// state), checkpoints, the progress line, the summary. Returns the history's, whose last row the
+// failure message names.
+const HistoryOutput& Simulation::addObservers(RunObservers& observers, History& history) {
+  const ParameterList& out = deck_.sublist("Output");
+  const int historyInterval = out.get<int>("History Interval");  // >= 1, checked by the builder
+  auto& historyOutput = observers.add(
+      std::make_unique<HistoryOutput>(history, restarted_, restartState_, historyInterval, steps_, dt_));
+  observers.add(std::make_unique<ParticleOutput>(particles_, comm_, outputDir_, restarted_, out.get<int>("VTK Interval"),
+                                                 historyInterval, steps_, dt_));
+  observers.add(std::make_unique<CheckpointOutput>(
+      out.get<int>("Checkpoint Interval"), [this, &history](int step, const RunResult& result) { writeCheckpointAt(step, result, history); }));
+  observers.add(std::make_unique<ProgressLine>(out.get<bool>("Progress") && comm_->getRank() == 0, steps_));
+  observers.add(std::make_unique<SummaryOutput>(comm_, [this](const RunResult& result) { writeSummary(result); }));
+  return historyOutput;
 }
 
 // Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.

@@ -1,10 +1,11 @@
-// One run of an input deck, in four files by concern: SimulationBuilder.cpp builds the grid,
-// materials, bodies and their particles, constraints, loads, monitors, the exact solution and
-// the integrator from a validated deck (every semantic check happens there, before anything is
-// written); Simulation.cpp is the run loop (steps, migration, history through History, ParaView
-// output, progress); SimulationRestart.cpp writes checkpoints and continues from one (the format
-// is solvers/Checkpoint.hpp's); SimulationSummary.cpp writes summary.yaml. Plots are the
-// driver's (apps/).
+// One run of an input deck. SimulationBuilder.cpp builds the grid, materials, bodies and their
+// particles, constraints, loads, monitors, the exact solution and the integrator from a validated
+// deck, section by section (solvers/build/<Section>Section.cpp, each with its section's schema;
+// every semantic check happens there, before anything is written); Simulation.cpp is the run loop
+// (steps, audits, migration and load balance; the outputs are its observers,
+// solvers/run/RunObservers.hpp); SimulationRestart.cpp writes checkpoints and continues from one
+// (the format is solvers/Checkpoint.hpp's); SimulationSummary.cpp writes summary.yaml. Plots are
+// the driver's (apps/).
 #pragma once
 
 #include <Teuchos_Comm.hpp>
@@ -29,7 +30,11 @@
 
 namespace impm {
 
-using Point = std::array<double, 3>;  // (x, y, z); z = 0 in 2D
+using Point = std::array<double, 3>;
+struct ExplicitOptions;  // solvers/ExplicitStepper.hpp
+struct ImplicitOptions;  // solvers/implicit/ImplicitNewmark.hpp
+class HistoryOutput;     // solvers/run/RunObservers.hpp
+class RunObservers;  // (x, y, z); z = 0 in 2D
 
 // Particles out of the grid (or of their rank's nodes), or a CPDI domain beyond its stencil: the
 // run stops (Simulation::run's failure contract). `advice` says what to change.
@@ -69,7 +74,24 @@ class Simulation {
   double exactModulus() const { return exact_ ? exact_->modulus() : 0.0; }
 
  private:
-  void buildMaterialsAndBodies();
+  // The builder's phases, in the order the constructor runs them (solvers/build/<Section>Section.cpp).
+  void readProblem(const std::string& outputOverride);
+  void readGrid();
+  void readMethod();
+  void buildMaterials();
+  void buildBodies();
+  BodySpec readBody(const std::string& name, const Teuchos::ParameterList& entry);
+  void readRectangle(const std::string& key, const Teuchos::ParameterList& entry, BodySpec& body) const;
+  void checkInsideGrid(const std::string& key, const BodySpec& body) const;
+  void estimateBodySize(const BodySpec& body, size_t fileParticles);
+  void readTime();
+  void checkOutputIntervals() const;
+  void distribute();
+  void createParticlesAndConditions(const std::vector<ConstraintSpec>& cspecs);
+  void readManufacturedSolution();
+  void applyInitialConditions();
+  void buildMonitors();
+  void buildExactSolution(const std::vector<ConstraintSpec>& cspecs, const std::vector<LoadSpec>& lspecs);
   std::vector<ConstraintSpec> buildConstraints();
   TimeFunction timeFunctionOf(const Teuchos::ParameterList& list, const std::string& key) const;
   void readMotion(const Teuchos::ParameterList& list, const std::string& key, ConstraintSpec& spec) const;
@@ -79,6 +101,8 @@ class Simulation {
   long long particlesReaching(const Point& lo, const Point& hi) const;
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
+  ExplicitOptions readExplicitOptions(bool explicitRun);
+  ImplicitOptions readImplicitOptions(bool fe) const;
   void noteLoadImbalance(RunResult& r) const;
   // Load balance: new cuts from the particle histograms; when they differ, adoptRankGrid. Returns
   // whether the cuts moved. Collective.
@@ -107,6 +131,7 @@ class Simulation {
   std::string timeStepAdvice() const;
   void writeSummary(const RunResult& r) const;
   void createOutputDirectory() const;
+  const HistoryOutput& addObservers(RunObservers& observers, History& history);
   std::string divergenceMessage(double divergence, int step, double t) const;
   void reportRun(const RunResult& r, std::ostream& log) const;
   // Output/Checkpoint Interval: the state after `step` (particles, integrator, history rows).

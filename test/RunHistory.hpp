@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace impm_test {

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "physics/GridConditions.hpp"
 #include "solvers/Simulation.hpp"
 

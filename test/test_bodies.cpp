@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "core/ParticleMigration.hpp"
 #include "core/kernels/Energy.hpp"
 #include "solvers/Simulation.hpp"

@@ -14,6 +14,7 @@
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {

@@ -15,6 +15,7 @@
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "physics/ElasticaExact.hpp"
 #include "solvers/Simulation.hpp"
 

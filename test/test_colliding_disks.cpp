@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {

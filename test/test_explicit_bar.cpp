@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {

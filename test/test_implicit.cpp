@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "physics/Body.hpp"
 #include "core/kernels/Energy.hpp"
 #include "solvers/implicit/ImplicitNewmark.hpp"

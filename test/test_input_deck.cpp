@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
 
 namespace {

@@ -21,6 +21,7 @@
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "physics/ColumnExact.hpp"
 #include "solvers/Simulation.hpp"
 

@@ -18,6 +18,7 @@
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "physics/Materials.hpp"
 #include "physics/ManufacturedSolution.hpp"
 #include "solvers/Simulation.hpp"

@@ -17,6 +17,7 @@
 
 #include "RunHistory.hpp"
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/newton/IfpackPreconditioner.hpp"
 #include "solvers/newton/ImplicitModelEvaluator.hpp"
 #include "solvers/newton/MueLuPreconditioner.hpp"

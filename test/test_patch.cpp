@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
 #include "test/RunHistory.hpp"
 

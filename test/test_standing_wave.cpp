@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/InputDeck.hpp"
+#include "solvers/build/Deck.hpp"
 #include "physics/ExactSolutions.hpp"
 #include "solvers/Simulation.hpp"
 

@@ -218,10 +218,10 @@ RCP<const ParameterList> newtonValidParameters() {
   return valid;
 }
 
-NewtonSettings NewtonSettings::fromList(ParameterList& pl) {
-  validateList(pl, *newtonValidParameters());
-  NewtonSettings s;
+namespace {
 
+// The mode, the preconditioner and the tolerances, each checked.
+void readTolerances(const ParameterList& pl, NewtonSettings& s) {
   s.jacobian = Teuchos::getIntegralValue<int>(pl, "Jacobian") == 0 ? NewtonSettings::JacobianMode::JacobianFree : NewtonSettings::JacobianMode::Assembled;
   s.assembledSolver =
       Teuchos::getIntegralValue<int>(pl, "Assembled Linear Solver") == 0 ? NewtonSettings::AssembledSolver::Amesos2 : NewtonSettings::AssembledSolver::Belos;
@@ -238,9 +238,10 @@ NewtonSettings NewtonSettings::fromList(ParameterList& pl) {
   if (s.linearTol >= 1) throw std::invalid_argument(where("Linear Tolerance") + " must be below 1 (got " + sci(s.linearTol) + ")");
   s.maxNewton = positiveInt(pl, "Maximum Newton Iterations");
   s.maxKrylov = positiveInt(pl, "Maximum Krylov Iterations");
-  const bool direct = s.jacobian == NewtonSettings::JacobianMode::Assembled && s.assembledSolver == NewtonSettings::AssembledSolver::Amesos2;
+}
 
-  // Matrix-free operator settings (copied; NOX fills its defaults into the copy at each set-up build).
+// Matrix-free operator settings (copied; NOX fills its defaults into the copy at each set-up build).
+void deriveJacobianFreeOperator(const ParameterList& pl, NewtonSettings& s) {
   s.jacobianFreeOperator = rcp(new ParameterList(pl.sublist("Jacobian-Free Operator")));
   setDefault(*s.jacobianFreeOperator, "Difference Type", "Forward");
   setDefault(*s.jacobianFreeOperator, "Perturbation Algorithm", "Knoll Keyes JCP 2004");
@@ -258,7 +259,11 @@ NewtonSettings NewtonSettings::fromList(ParameterList& pl) {
                                   " must be Forward (Central differences are broken in Trilinos 13.2)");
   }
 
-  // Stratimikos: the linear solver. Our derived settings are defaults; the deck's keys win.
+}
+
+// Stratimikos: the linear solver. Our derived settings are defaults; the deck's keys win.
+void deriveStratimikos(const ParameterList& pl, NewtonSettings& s) {
+  const bool direct = s.direct();
   s.stratimikos = rcp(new ParameterList(pl.sublist("Stratimikos")));
   const std::string lsType = direct ? "Amesos2" : "Belos";
   if (s.stratimikos->isParameter("Linear Solver Type") && s.stratimikos->get<std::string>("Linear Solver Type") != lsType) {
@@ -282,7 +287,11 @@ NewtonSettings NewtonSettings::fromList(ParameterList& pl) {
     if (solverType.find("GMRES") != std::string::npos) setDefault(solver, "Num Blocks", std::min(s.maxKrylov, 100));
     setDefault(belos.sublist("VerboseObject"), "Verbosity Level", "none");
   }
-  // NOX: Newton with full steps; our derived settings are defaults, the deck's keys win.
+}
+
+// NOX: Newton with full steps (or the deck's line search); our derived settings are defaults, the
+// deck's keys win.
+void deriveNox(const ParameterList& pl, NewtonSettings& s) {
   s.nox = rcp(new ParameterList(pl.sublist("NOX")));
   ParameterList& nox = *s.nox;
   setDefault(nox, "Nonlinear Solver", "Line Search Based");
@@ -315,6 +324,17 @@ NewtonSettings NewtonSettings::fromList(ParameterList& pl) {
   setDefault(newton.sublist("Linear Solver"), "Tolerance", linTol);
   setDefault(nox.sublist("Printing"), "Output Information", static_cast<int>(NOX::Utils::Error));
   setDefault(nox.sublist("Solver Options"), "Status Test Check Type", "Complete");
+}
+
+}  // namespace
+
+NewtonSettings NewtonSettings::fromList(ParameterList& pl) {
+  validateList(pl, *newtonValidParameters());
+  NewtonSettings s;
+  readTolerances(pl, s);
+  deriveJacobianFreeOperator(pl, s);
+  deriveStratimikos(pl, s);
+  deriveNox(pl, s);
   return s;
 }
 

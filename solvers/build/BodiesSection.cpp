@@ -1,0 +1,240 @@
+// Deck section Bodies: shapes filled with particles of one material each.
+#include "solvers/Simulation.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+
+#include "core/Collective.hpp"
+#include "core/DeckSchema.hpp"
+#include "core/ShapeRegistry.hpp"
+#include "solvers/build/Sections.hpp"
+
+#include <cmath>
+#include <tuple>
+
+namespace impm {
+
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
+using schema::choice;
+using schema::number;
+using build::positive;
+using build::positiveInt;
+using build::onGridLine;
+using build::kParticlePlacementDoc;
+using build::timeFunctionKeys;
+
+const char* const build::kParticlePlacementDoc =
+    "where the lattice fill puts the Particles Per Cell in a cell, per direction, all of equal volume (the cell's over "
+    "the particles per cell; total mass rho x the body's volume). Uniform: the centres of n equal sub-cells (the "
+    "midpoint rule: a rectangle's second moment of area through its depth H comes out low by the factor "
+    "1 - (d/H)^2, d = the sub-cell size); Gauss: n/2 equal sub-cells, each holding the 2-point Gauss-Legendre pair "
+    "(its centre +- half width / sqrt(3), equal weights), which integrates cubics exactly, so the second moment "
+    "exactly; with 4 per cell the sub-cells are the half cells, on which quadratic B-splines are polynomials "
+    "(the beam decks apps/beam_implicit_bspline_*). Gauss needs even Particles Per Cell; not for Particles File "
+    "bodies or FE Q4 / FE Q9 (which place their own Gauss points)";
+
+
+RCP<const ParameterList> build::bodiesTemplate() {
+  auto pl = rcp(new ParameterList("Bodies"));
+  choice(*pl, "Shape", "Rectangle", {"Rectangle", "Ellipse", "Polygon", "Particles File"},
+         "Rectangle: X/Y Min/Max on grid lines; Ellipse: Center X/Y and Radius X/Y (a disk when equal); "
+         "Polygon: Vertices; Particles File: File. Lattice-filled shapes keep the sub-box centres inside the "
+         "shape; Ellipse and Polygon particles share the shape's exact area as volume. In 3D (Grid/Dimension 3) "
+         "a Rectangle is the box X/Y/Z Min/Max, and Particles File rows are x, y, z, volume; Ellipse and "
+         "Polygon are 2D shapes");
+  pl->set("Material", "", "name of the material (an entry of Materials)");
+  number(*pl, "X Min", 0.0, "Rectangle: left edge (on a grid line)");
+  number(*pl, "X Max", 1.0, "Rectangle: right edge (on a grid line)");
+  number(*pl, "Y Min", 0.0, "Rectangle: bottom edge (on a grid line)");
+  number(*pl, "Y Max", 1.0, "Rectangle: top edge (on a grid line)");
+  number(*pl, "Z Min", 0.0, "Rectangle in 3D: back face (on a grid plane)");
+  number(*pl, "Z Max", 1.0, "Rectangle in 3D: front face (on a grid plane)");
+  number(*pl, "Center X", 0.5, "Ellipse: x of the centre");
+  number(*pl, "Center Y", 0.5, "Ellipse: y of the centre");
+  number(*pl, "Radius X", 0.25, "Ellipse: semi-axis along x");
+  number(*pl, "Radius Y", 0.25, "Ellipse: semi-axis along y");
+  pl->set("Vertices", "", "Polygon: 'x1, y1; x2, y2; x3, y3; ...' (either orientation, not self-crossing)");
+  pl->set("File", "", "Particles File: CSV rows x, y, volume (m^3, i.e. area x Thickness); a relative path is "
+                      "relative to the working directory");
+  pl->set("Particles Per Cell X", 2, "particles per cell in x (lattice fill)");
+  pl->set("Particles Per Cell Y", 2, "particles per cell in y (lattice fill)");
+  pl->set("Particles Per Cell Z", 2, "particles per cell in z (lattice fill, 3D)");
+  choice(*pl, "Particle Placement", "Uniform", {"Uniform", "Gauss"}, kParticlePlacementDoc);
+  number(*pl, "Velocity X", 0.0, "initial velocity, x (m/s)");
+  number(*pl, "Velocity Y", 0.0, "initial velocity, y (m/s)");
+  number(*pl, "Velocity Z", 0.0, "initial velocity, z (m/s; 3D)");
+  return pl;
+}
+
+const BodySpec& Simulation::bodyNamed(const std::string& key, const std::string& name) const {
+  if (name.empty()) return bodies_.front();
+  for (const auto& b : bodies_)
+    if (b.name == name) return b;
+  throw DeckError("'" + key + "' = '" + name + "' names no entry of Bodies");
+}
+
+void Simulation::buildBodies() {
+  const ShapeInfo& shape = shapeInfo(shape_);
+  const int fewest = shape.minimumCells;
+  if (shape.minimumCells > 1 && !shape.quadraticElements &&
+      (grid_.nx < fewest || grid_.ny < fewest || (grid_.dim == 3 && grid_.nz < fewest)))
+    throw DeckError("'Method/Shape Function' = " + shape_ + " needs at least " + std::to_string(fewest) +
+                    " cells per direction (a stencil spans " + std::to_string(shape.stencilNodes1d) + " nodes), got " +
+                    std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
+                    (grid_.dim == 3 ? " x " + std::to_string(grid_.nz) : std::string()) + " cells");
+  if (shape.quadraticElements && grid_.dim == 3 && grid_.nz % 2)
+    throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " + std::to_string(grid_.nz));
+  if (shape.quadraticElements && (grid_.nx % 2 || grid_.ny % 2))
+    throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
+                    std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
+  const ParameterList& bs = deck_.sublist("Bodies");
+  if (bs.numParams() == 0) throw DeckError("'Bodies' is empty: add at least one body");
+  for (auto it = bs.begin(); it != bs.end(); ++it) bodies_.push_back(readBody(bs.name(it), bs.sublist(bs.name(it))));
+}
+
+// One entry of Bodies: its material, particles per cell, initial velocity, placement and shape.
+BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
+  const std::string key = "Bodies/" + name;
+  BodySpec body;
+  body.name = name;
+  const std::string material = b.get<std::string>("Material");
+  const auto found = std::find(materialNames_.begin(), materialNames_.end(), material);
+  if (found == materialNames_.end()) {
+    std::string known;
+    for (const auto& n : materialNames_) known += (known.empty() ? "'" : ", '") + n + "'";
+    throw DeckError("'" + key + "/Material' = '" + material + "' names no entry of Materials (known: " + known + ")");
+  }
+  body.material = (int)(found - materialNames_.begin());
+  body.rect.particlesPerCellX = positiveInt(b, key, "Particles Per Cell X");
+  body.rect.particlesPerCellY = positiveInt(b, key, "Particles Per Cell Y");
+  if (grid_.dim == 3) body.rect.particlesPerCellZ = positiveInt(b, key, "Particles Per Cell Z");
+  body.rect.thickness = thickness_;
+  body.rect.placement = placement_;
+  body.velocityX = b.get<double>("Velocity X");
+  body.velocityY = b.get<double>("Velocity Y");
+  body.velocityZ = b.get<double>("Velocity Z");
+  const std::string shape = b.get<std::string>("Shape");
+  if (grid_.dim == 3 && (shape == "Ellipse" || shape == "Polygon"))
+    throw DeckError("'" + key + "/Shape' = " + shape + " is a 2D shape; with 'Grid/Dimension' = 3 a body is a Rectangle (box) or a Particles File");
+  if (grid_.dim == 2 && body.velocityZ != 0.0)
+    throw DeckError("'" + key + "/Velocity Z' = " + formatNumber(body.velocityZ) + " needs 'Grid/Dimension' = 3");
+  if (b.get<std::string>("Particle Placement") == "Gauss") {
+    // Gauss pairs in sub-cells: an even count per direction, and only where a lattice is filled.
+    if (shape == "Particles File" || placement_ != Placement::Lattice)
+      throw DeckError("'" + key + "/Particle Placement' = Gauss places a lattice fill's particles; " +
+                      (shape == "Particles File" ? std::string("a Particles File body takes its particles as given")
+                                                 : "'Method/Shape Function' = " + shape_ + " places its own Gauss points"));
+    for (const char* axis : {"X", "Y", "Z"}) {
+      if (axis[0] == 'Z' && grid_.dim == 2) continue;
+      const int n = b.get<int>(std::string("Particles Per Cell ") + axis);
+      if (n % 2)
+        throw DeckError("'" + key + "/Particle Placement' = Gauss puts Gauss-Legendre pairs in sub-cells: '" + key +
+                        "/Particles Per Cell " + axis + "' must be even, got " + std::to_string(n));
+    }
+    body.rect.latticePoints = LatticePoints::Gauss;
+  }
+  size_t fileParticles = 0;
+  if (placement_ != Placement::Lattice && shape != "Rectangle")
+    throw DeckError("'" + key + "/Shape' = " + shape + ": 'Method/Shape Function' = " + shape_ +
+                    " places Gauss points in Rectangle bodies only");
+  try {
+    if (shape == "Rectangle") {
+      readRectangle(key, b, body);
+    } else if (shape == "Ellipse") {
+      const double cx = b.get<double>("Center X"), cy = b.get<double>("Center Y");
+      const double rx = positive(b, key, "Radius X"), ry = positive(b, key, "Radius Y");
+      body.shape = makeEllipse(cx, cy, rx, ry);
+    } else if (shape == "Polygon") {
+      const std::string vertices = b.get<std::string>("Vertices");
+      try {
+        body.shape = makePolygon(parsePolygonVertices(vertices));
+      } catch (const std::invalid_argument& e) {
+        throw DeckError("'" + key + "/Vertices': " + e.what());
+      }
+    } else {
+      body.particlesFile = b.get<std::string>("File");
+      if (body.particlesFile.empty()) throw DeckError("'" + key + "/File' must name a particles file for Shape = Particles File");
+      try {
+        // Checked here, before anything runs.
+        fileParticles = readParticlesFile(body.particlesFile, grid_.dim, thickness_).size();
+      } catch (const std::exception& e) {
+        throw DeckError("'" + key + "/File': " + e.what());
+      }
+    }
+  } catch (const std::invalid_argument& e) {
+    throw DeckError("'" + key + "': " + e.what());
+  }
+  checkInsideGrid(key, body);
+  estimateBodySize(body, fileParticles);
+  return body;
+}
+
+// A Rectangle body: X/Y(/Z) Min/Max ordered, inside the grid and on grid lines (FE Q9: element edges).
+void Simulation::readRectangle(const std::string& key, const ParameterList& b, BodySpec& body) const {
+  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
+  RectangularBody& r = body.rect;
+  r.xMin = b.get<double>("X Min"); r.xMax = b.get<double>("X Max");
+  r.yMin = b.get<double>("Y Min"); r.yMax = b.get<double>("Y Max");
+  if (!(r.xMax > r.xMin)) throw DeckError("'" + key + "/X Max' must exceed '" + key + "/X Min'");
+  if (!(r.yMax > r.yMin)) throw DeckError("'" + key + "/Y Max' must exceed '" + key + "/Y Min'");
+  if (r.xMin < grid_.x0 - tolx) throw DeckError("particles outside the grid: '" + key + "/X Min' = " + formatNumber(r.xMin) + " is left of the grid origin " + formatNumber(grid_.x0));
+  if (r.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: '" + key + "/X Max' = " + formatNumber(r.xMax) + " is beyond the grid's right edge " + formatNumber(grid_.xMax()));
+  if (r.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + formatNumber(r.yMin) + " is below the grid origin " + formatNumber(grid_.y0));
+  if (r.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + formatNumber(r.yMax) + " is above the grid's top edge " + formatNumber(grid_.yMax()));
+  std::vector<std::tuple<const char*, double, double, double>> edges = {
+      std::make_tuple("X Min", r.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", r.xMax, grid_.x0, grid_.hx),
+      std::make_tuple("Y Min", r.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", r.yMax, grid_.y0, grid_.hy)};
+  if (grid_.dim == 3) {
+    r.zMin = b.get<double>("Z Min"); r.zMax = b.get<double>("Z Max");
+    const double tolz = 1e-9 * grid_.hz;
+    if (!(r.zMax > r.zMin)) throw DeckError("'" + key + "/Z Max' must exceed '" + key + "/Z Min'");
+    if (r.zMin < grid_.z0 - tolz) throw DeckError("particles outside the grid: '" + key + "/Z Min' = " + formatNumber(r.zMin) + " is behind the grid origin " + formatNumber(grid_.z0));
+    if (r.zMax > grid_.zMax() + tolz) throw DeckError("particles outside the grid: '" + key + "/Z Max' = " + formatNumber(r.zMax) + " is beyond the grid's front face " + formatNumber(grid_.zMax()));
+    edges.push_back(std::make_tuple("Z Min", r.zMin, grid_.z0, grid_.hz));
+    edges.push_back(std::make_tuple("Z Max", r.zMax, grid_.z0, grid_.hz));
+  }
+  for (auto [k, v, o, h] : edges) {
+    if (!onGridLine(v, o, h)) throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on a grid line");
+    // FE Q9: elements of 2 x 2 cells, the body made of whole elements.
+    if (placement_ == Placement::GaussQ9 && std::lround((v - o) / h) % 2)
+      throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on an element edge of FE Q9 (an even grid line)");
+  }
+  body.rectangle = true;
+  body.shape = makeRectangle(r.xMin, r.xMax, r.yMin, r.yMax);
+}
+
+// A shape other than a grid-aligned rectangle stays inside the grid.
+void Simulation::checkInsideGrid(const std::string& key, const BodySpec& body) const {
+  const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
+  if (body.shape && !body.rectangle) {
+    double xlo, xhi, ylo, yhi;
+    body.shape->boundingBox(xlo, xhi, ylo, yhi);
+    if (xlo < grid_.x0 - tolx || xhi > grid_.xMax() + tolx || ylo < grid_.y0 - toly || yhi > grid_.yMax() + toly)
+      throw DeckError("particles outside the grid: '" + key + "' (" + body.shape->describe() + ") extends beyond the grid [" +
+                      formatNumber(grid_.x0) + ", " + formatNumber(grid_.xMax()) + "] x [" + formatNumber(grid_.y0) + ", " + formatNumber(grid_.yMax()) + "]");
+  }
+}
+
+// For checkProblemSize: the body's particles (exact for lattice-filled rectangles and Gauss points,
+// by area for other shapes) and the cells it covers.
+void Simulation::estimateBodySize(const BodySpec& body, size_t fileParticles) {
+  double cells = 0, particles = 0;
+  if (!body.particlesFile.empty()) {
+    particles = cells = (double)fileParticles;
+  } else {
+    cells = body.shape->area() / (grid_.hx * grid_.hy);
+    double perCell = placement_ == Placement::GaussQ4   ? 4.0
+                     : placement_ == Placement::GaussQ9 ? 9.0 / 4.0
+                                                        : (double)body.rect.particlesPerCellX * body.rect.particlesPerCellY;
+    if (grid_.dim == 3) {
+      cells *= body.rect.depth() / grid_.hz;
+      perCell *= placement_ == Placement::GaussQ4 ? 2.0 : placement_ == Placement::GaussQ9 ? 3.0 / 2.0 : body.rect.particlesPerCellZ;
+    }
+    particles = cells * perCell;
+  }
+  estimatedBodyCells_.push_back(cells);
+  estimatedBodyParticles_.push_back(particles);
+}
+
+}  // namespace impm

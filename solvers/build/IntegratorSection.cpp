@@ -1,0 +1,272 @@
+// Deck sections Integrator and Initial Conditions: the time step, the explicit or implicit
+// integrator for the shape function, and the particles' initial state.
+#include "solvers/Simulation.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+
+#include "core/Collective.hpp"
+#include "core/DeckSchema.hpp"
+#include "core/ShapeRegistry.hpp"
+#include "solvers/build/Sections.hpp"
+
+#include <cmath>
+
+#include "physics/InitialConditions.hpp"
+#include "solvers/ExplicitStepper.hpp"
+#include "solvers/implicit/ImplicitNewmark.hpp"
+
+namespace impm {
+
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
+using schema::choice;
+using schema::number;
+using build::positive;
+using build::positiveInt;
+using build::onGridLine;
+using build::kParticlePlacementDoc;
+using build::timeFunctionKeys;
+
+void addIntegratorSchema(ParameterList& valid) {
+  ParameterList& p = valid.sublist("Integrator", false, "time integration");
+  choice(p, "Type", "Explicit", {"Explicit", "Implicit"},
+         "Explicit: USF/USL/MUSL; Implicit: Newmark average acceleration solved by Newton (see Implicit Solver)");
+  number(p, "Time Step", 1.0e-8, "dt (s)");
+  p.set("Number of Steps", 100, "number of time steps");
+  ParameterList& e = p.sublist("Explicit", false, "explicit integrator options");
+  choice(e, "Update Scheme", "USL", {"USF", "USL", "MUSL"}, "when the stress is updated");
+  number(e, "FLIP Fraction", 1.0, "particle velocity update: 1 = FLIP, 0 = PIC, between = blend");
+  number(e, "Mass Damping", 0.0,
+         "mass-proportional damping c (1/s): each grid node's acceleration gets -c v_i (a force -c m_i v_i), for "
+         "dynamic relaxation to a quasi-static state; a mode of angular frequency omega is critically damped at "
+         "c = 2 omega, higher modes less (0: none, the scheme conserves energy)");
+  e.set("Consistent Projection Iterations", 0,
+        "Jacobi iterations towards the consistent-mass projection of particle momentum to grid velocity; "
+        "0 = the classic lumped projection p/m, which smooths the velocity field by M_L^-1 M_C every step "
+        "and about triples the lumped-mass wave dispersion; 1 removes that to O((kh)^4)");
+  number(e, "Stability Factor", 1.0,
+         "dt must not exceed this factor times 0.7 / (P-wave speed sqrt(1/hx^2 + 1/hy^2)): the critical step of "
+         "lumped bilinear cells, times the smallest critical fraction measured over every transfer scheme "
+         "(apps/stability_study.py) with a margin; above 1 a warning (the run may diverge)");
+  ParameterList& im = p.sublist("Implicit", false, "implicit integrator options");
+  im.set("Maximum Step Halvings", 4, "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
+  im.set("Consistent Projection Iterations", 0,
+         "Jacobi iterations towards the consistent-mass projection of particle velocity and acceleration to "
+         "the grid (0: lumped projection; see Integrator/Explicit); not used with Mass Matrix: Consistent, "
+         "whose residual needs no projection");
+  im.set("Preconditioner Refresh Interval", 1,
+         "steps between numeric refactorisations of the Ifpack2 preconditioner (1: every step); its factors "
+         "of a slightly older P remain a good preconditioner while the particles move little");
+  im.set("Preconditioner Refresh GMRES Threshold", 0,
+         "also rebuild the preconditioner at the step after one whose mean GMRES iterations per Newton "
+         "iteration exceeded this (0: off)");
+  im.set("Preconditioner At Every Newton Iteration", false,
+         "Jacobian-Free with finite-strain materials: rebuild the preconditioner at every Newton iterate from the "
+         "tangent at the trial state (material and geometric), instead of once per step");
+  choice(im, "Mass Matrix", "Lumped", {"Lumped", "Consistent"},
+         "Lumped: Guilkey & Weiss; Consistent: R uses M_C u and particles take their own Newmark update, "
+         "which conserves the particles' energy (P then holds the consistent mass too, except with GIMP Stiffness = Integrated)");
+  choice(im, "GIMP Stiffness", "Consistent", {"Integrated", "Consistent"},
+         "GIMP's assembled stiffness (preconditioner, or Jacobian of Assembled Newton): Consistent = V_p B^T D B "
+         "with the averaged gradients, the exact derivative of the GIMP internal force (Newton converges "
+         "quadratically, GMRES in a few iterations); Integrated = the seed's D int_Omega_p B^T B, exact per "
+         "particle-cell overlap but not the derivative of the GIMP force: once particles straddle cell lines "
+         "GMRES stalls (198 iterations per Newton step, 27 times slower, on a padded cantilever). Worth it "
+         "only to reproduce the seed");
+  choice(im, "Grid Acceleration", "Equilibrium", {"Equilibrium", "Projected"},
+         "Lumped mass only. Equilibrium: each step starts from a_i = (F_ext + F_int)_i / m_i and the particles "
+         "take the grid's velocity increment dt/2 (a_i + a_i,new); Projected: a_i projected from the "
+         "particles' accelerations, v_p += dt/2 (a_p + a_p,new) (Guilkey & Weiss 2003), whose acceleration "
+         "error grows at omega dt >> 1 (11 times the static stress after 40 large steps of a step load)");
+  im.set("Adaptive Time Step", false,
+         "sub-step each deck step adaptively on the Newton iteration count (after Uintah's ImpMPM): a sub-step "
+         "that took more than 12 Newton iterations shrinks the next by 0.6, one that took fewer than 4 doubles it "
+         "(never beyond the deck's Time Step), and a failed one is retried at half its size, down to Minimum Time "
+         "Step. history.csv and the VTU files stay on the deck's steps");
+  number(im, "Minimum Time Step", 0.0,
+         "Adaptive Time Step: the smallest sub-step before the run stops (0: the deck's Time Step / 2^Maximum Step Halvings)");
+  im.set("Consistent Initial Acceleration", true,
+         "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
+  number(im, "Newmark Beta", 0.25,
+         "beta of the Newmark scheme on the grid, u = dt v + dt^2 ((1/2 - beta) a + beta a_new); with gamma "
+         "unconditionally stable when 2 beta >= gamma >= 1/2. 1/4 with gamma = 1/2: average acceleration, no "
+         "numerical damping; gamma > 1/2 with beta = (gamma + 1/2)^2 / 4 damps the highest frequencies most "
+         "(per step by |gamma - 3/2| / (gamma + 1/2) at omega dt -> infinity)");
+  number(im, "Newmark Gamma", 0.5, "gamma of the Newmark scheme, v_new = v + dt ((1 - gamma) a + gamma a_new)");
+}
+
+void addInitialConditionsSchema(ParameterList& valid) {
+  ParameterList& p = valid.sublist("Initial Conditions", false, "initial particle state (default: at rest)");
+  choice(p, "Type", "None", {"None", "Standing Wave", "Manufactured Solution"},
+         "None: particles at rest; Standing Wave: zero displacement and v_x(X, 0) = Amplitude sin(Mode pi "
+         "(X - X Min) / L), L = the body's length (one mode of a bar fixed at both ends); Manufactured Solution: "
+         "zero displacement and the velocity of the deck's manufactured solution at t = 0 (Exact Solution/Type = "
+         "Axis-Aligned Manufactured Solution)");
+  number(p, "Amplitude", 0.0, "velocity amplitude V of the Standing Wave (m/s), non-zero");
+  p.set("Mode", 1, "mode number n >= 1 of the Standing Wave (n half-waves along the body)");
+}
+
+void Simulation::readTime() {
+  const ParameterList& in = deck_.sublist("Integrator");
+  dt_ = positive(in, "Integrator", "Time Step");
+  steps_ = positiveInt(in, "Integrator", "Number of Steps");
+}
+
+// Initial conditions, before the integrators (an implicit one computes a(0) from this state).
+// The standing wave is one mode of the first body (or Exact Solution/Body).
+void Simulation::applyInitialConditions() {
+  const ParameterList& ic = deck_.sublist("Initial Conditions");
+  const std::string icType = ic.get<std::string>("Type");
+  if ((icType == "Manufactured Solution") != (manufactured_ != nullptr))
+    throw DeckError(manufactured_ ? "'Initial Conditions/Type' must be Manufactured Solution with 'Exact Solution/Type' = "
+                                    "Axis-Aligned Manufactured Solution (the particles start on the solution), got " + icType
+                                  : "'Initial Conditions/Type' = Manufactured Solution needs 'Exact Solution/Type' = Axis-Aligned "
+                                    "Manufactured Solution (the field it starts from)");
+  if (manufactured_) applyManufacturedVelocity(particles_, *manufactured_);
+  const double icAmplitude = ic.get<double>("Amplitude");
+  const int icMode = ic.get<int>("Mode");
+  if (icType == "Standing Wave") {
+    if (!(icAmplitude != 0.0 && std::isfinite(icAmplitude)))
+      throw DeckError("'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
+                      formatNumber(icAmplitude));
+    if (icMode < 1)
+      throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " + std::to_string(icMode));
+    const BodySpec& b = bodyNamed("Exact Solution/Body", deck_.sublist("Exact Solution").get<std::string>("Body"));
+    if (!b.rectangle) throw DeckError("'Initial Conditions/Type' = Standing Wave needs a Rectangle body: 'Bodies/" + b.name + "' is not one");
+    if (bodies_.size() > 1)
+      throw DeckError("'Initial Conditions/Type' = Standing Wave is one mode of a single bar: the deck has " +
+                      std::to_string(bodies_.size()) + " bodies");
+    applyStandingWaveVelocity(particles_, b.rect.xMin, b.rect.length(), icAmplitude, icMode);
+  }
+
+}
+
+// Integrator/Explicit: the update scheme and its options, and the stable time step (checked for an
+// explicit run; criticalStep_ is the explicit run's).
+ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
+  const ParameterList& ex = deck_.sublist("Integrator").sublist("Explicit");
+  const std::string integratorType = explicitRun ? "Explicit" : "Implicit";
+  ExplicitOptions eopt;
+  const std::string s = ex.get<std::string>("Update Scheme");
+  eopt.scheme = s == "USF" ? ExplicitScheme::USF : s == "MUSL" ? ExplicitScheme::MUSL : ExplicitScheme::USL;
+  eopt.flip = ex.get<double>("FLIP Fraction");
+  eopt.projectionIterations = ex.get<int>("Consistent Projection Iterations");
+  if (eopt.projectionIterations < 0)
+    throw DeckError("'Integrator/Explicit/Consistent Projection Iterations' must not be negative");
+  eopt.massDamping = ex.get<double>("Mass Damping");
+  if (!(eopt.massDamping >= 0) || !std::isfinite(eopt.massDamping))
+    throw DeckError("'Integrator/Explicit/Mass Damping' must be finite and not negative, got " +
+                    formatNumber(eopt.massDamping));
+  if (!(eopt.flip >= 0 && eopt.flip <= 1))
+    throw DeckError("'Integrator/Explicit/FLIP Fraction' must lie in [0, 1], got " + formatNumber(eopt.flip));
+  const double factor = positive(ex, "Integrator/Explicit", "Stability Factor");
+  // kTransferStabilityFraction x the critical step of lumped bilinear cells (ExplicitStepper.hpp);
+  // c_p: the fastest material's. A factor above 1 leaves the measured stable range: allowed for
+  // stability studies, with a warning, and the run's divergence guard stops a run that blows up.
+  const double cp = materials_.maxPWaveSpeed();
+  const double inverseSquares = 1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy) +
+                                (grid_.dim == 3 ? 1.0 / (grid_.hz * grid_.hz) : 0.0);
+  const double critical = kTransferStabilityFraction / (cp * std::sqrt(inverseSquares));
+  const double limit = factor * critical;
+  if (integratorType == "Explicit") criticalStep_ = critical;
+  if (integratorType == "Explicit" && dt_ > limit)
+    throw DeckError("'Integrator/Time Step' = " + formatNumber(dt_) + " exceeds the explicit stable limit " + formatNumber(limit) +
+                    " (Stability Factor x " + formatNumber(kTransferStabilityFraction) +
+                    (grid_.dim == 3 ? " / (P-wave speed x sqrt(1/hx^2 + 1/hy^2 + 1/hz^2)), P-wave speed "
+                                    : " / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed ") +
+                    formatNumber(cp) + " m/s)");
+  if (integratorType == "Explicit" && factor > 1.0 && comm_->getRank() == 0)
+    std::cerr << "impm: warning: 'Integrator/Explicit/Stability Factor' = " << formatNumber(factor)
+              << " is above 1, beyond the measured stable limit of the particle transfers; the run may diverge\n";
+  return eopt;
+}
+
+// Integrator/Implicit: the Newmark scheme, the step control and the preconditioner refresh.
+ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
+  const ParameterList& im = deck_.sublist("Integrator").sublist("Implicit");
+  ImplicitOptions iopt;
+  iopt.maxStepHalvings = im.get<int>("Maximum Step Halvings");
+  if (iopt.maxStepHalvings < 0) throw DeckError("'Integrator/Implicit/Maximum Step Halvings' must not be negative");
+  iopt.consistentInitialAcceleration = im.get<bool>("Consistent Initial Acceleration");
+  iopt.projectionIterations = im.get<int>("Consistent Projection Iterations");
+  iopt.preconditionerRefreshInterval = im.get<int>("Preconditioner Refresh Interval");
+  iopt.preconditionerRefreshKrylov = im.get<int>("Preconditioner Refresh GMRES Threshold");
+  iopt.preconditionerEveryNewton = im.get<bool>("Preconditioner At Every Newton Iteration");
+  if (iopt.preconditionerRefreshKrylov < 0)
+    throw DeckError("'Integrator/Implicit/Preconditioner Refresh GMRES Threshold' must not be negative (0: off), got " +
+                    std::to_string(iopt.preconditionerRefreshKrylov));
+  iopt.consistentMass = im.get<std::string>("Mass Matrix") == "Consistent";
+  iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
+  iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
+  iopt.fixedParticles = fe;
+  iopt.newmark.beta = im.get<double>("Newmark Beta");
+  iopt.newmark.gamma = im.get<double>("Newmark Gamma");
+  if (!(iopt.newmark.gamma >= 0.5 && 2 * iopt.newmark.beta >= iopt.newmark.gamma && iopt.newmark.beta <= 1.0))
+    throw DeckError("'Integrator/Implicit/Newmark Beta' = " + formatNumber(iopt.newmark.beta) + " and 'Newmark Gamma' = " +
+                    formatNumber(iopt.newmark.gamma) +
+                    ": the implicit integrator needs an unconditionally stable Newmark scheme, 2 beta >= gamma >= 1/2 "
+                    "(and beta <= 1)");
+  iopt.adaptiveTimeStep = im.get<bool>("Adaptive Time Step");
+  iopt.minimumTimeStep = im.get<double>("Minimum Time Step");
+  if (!(iopt.minimumTimeStep >= 0))
+    throw DeckError("'Integrator/Implicit/Minimum Time Step' must not be negative, got " + formatNumber(iopt.minimumTimeStep));
+  if (iopt.minimumTimeStep > dt_)
+    throw DeckError("'Integrator/Implicit/Minimum Time Step' = " + formatNumber(iopt.minimumTimeStep) +
+                    " s exceeds 'Integrator/Time Step' = " + formatNumber(dt_) + " s");
+  if (iopt.preconditionerRefreshInterval < 1)
+    throw DeckError("'Integrator/Implicit/Preconditioner Refresh Interval' must be at least 1");
+  if (iopt.projectionIterations < 0)
+    throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
+  iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
+  return iopt;
+}
+
+// The integrator for the shape function (its type from the registry, core/ShapeRegistry.hpp) and
+// the dimension. Solver options are checked whatever the integrator, so that a bad one never
+// waits for a later implicit run to be found.
+void Simulation::buildIntegrator() {
+  const std::string integratorType = deck_.sublist("Integrator").get<std::string>("Type");
+  const ExplicitOptions eopt = readExplicitOptions(integratorType == "Explicit");
+  const bool fe = shapeInfo(shape_).fixedParticles;
+  if (fe && integratorType != "Implicit")
+    throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
+  if (integratorType != "Implicit") {
+    try {
+      NewtonSolver check(Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver"))));
+    } catch (const std::invalid_argument& e) {
+      throw DeckError(e.what());
+    }
+  }
+  if (integratorType == "Implicit") {
+    const ImplicitOptions iopt = readImplicitOptions(fe);
+    // The shape's type from the registry (core/ShapeRegistry.hpp), then the dimension.
+    auto implicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
+      constexpr int Dim = decltype(dimension)::value;
+      return visitShape(shape_, [&](auto shape, const ShapeInfo&) -> std::unique_ptr<Integrator> {
+        using Shape = typename decltype(shape)::type;
+        return std::make_unique<ImplicitNewmark<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+      });
+    };
+    try {
+      integrator_ = grid_.dim == 3 ? implicitOf(std::integral_constant<int, 3>{}) : implicitOf(std::integral_constant<int, 2>{});
+    } catch (const std::invalid_argument& e) {
+      throw DeckError(e.what());
+    }
+  } else {
+    auto explicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
+      constexpr int Dim = decltype(dimension)::value;
+      return visitShape(shape_, [&](auto shape, const ShapeInfo&) -> std::unique_ptr<Integrator> {
+        using Shape = typename decltype(shape)::type;
+        if constexpr (std::is_same_v<Shape, QuadraticLagrange>) {
+          return nullptr;  // (FE Q9 is implicit only: refused above)
+        } else {
+          return std::make_unique<ExplicitStepper<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+        }
+      });
+    };
+    integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});
+  }
+}
+
+}  // namespace impm
