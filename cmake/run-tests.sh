@@ -8,7 +8,7 @@ BUILD="${IMPM_BUILD_DIR:-build}"
 cd "$BUILD"
 export OMP_PROC_BIND=false
 # Waiting OpenMP threads sleep instead of spinning, so that the suite keeps its pace on a loaded
-# machine (ctest sets it for each test too; see test/CMakeLists.txt and README, "Tests").
+# machine (ctest sets it for each test too; see test/CMakeLists.txt and doc/user-guide.md, "Tests").
 export OMP_WAIT_POLICY=passive
 # The verification label (reduced report and refinement studies, a few minutes) runs once, at
 # 2 threads; everything else runs at 1 and at 2 threads.

@@ -40,7 +40,7 @@ if [ -n "${Trilinos_DIR:-}" ]; then
   exit 0
 fi
 
-# The configuration that is known to work (see README, "Trilinos"). Its hash is the cache key.
+# The configuration that is known to work (see doc/user-guide.md, "Installation"). Its hash is the cache key.
 # Only what impm uses is built: Tpetra (double, int, long long, OpenMP node), Belos, Ifpack2,
 # Amesos2 (KLU2), MueLu on Xpetra (Tpetra only), NOX with Thyra, Stratimikos (Belos, Amesos2).
 TRILINOS_OPTIONS=(

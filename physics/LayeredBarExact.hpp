@@ -6,7 +6,7 @@
 // area Z_k = rho_k c_k = sqrt(E_k rho_k)); the cross-section area A is common. The left end x = 0
 // is fixed (u = 0); a step force F0 H(t) (tension positive, pulling in +x) acts at x = L, so the
 // stress there is F0/A for t > 0. Linear small-strain theory. E_k is the modulus the comparison
-// uses (E or E/(1-nu^2), see README "Which modulus"); the caller decides.
+// uses (E or E/(1-nu^2), see doc/method.md, "Which modulus"); the caller decides.
 //
 // The solution is piecewise constant in stress and velocity between straight fronts. A front in
 // segment k moving in direction d (+1 right, -1 left) carries a stress jump dS and a velocity jump

@@ -222,7 +222,7 @@ std::string Simulation::timeStepAdvice() const {
            " (keep it at most 1)";
   std::string advice = "reduce " + step + " (the stable step of these cells and particles is " + formatNumber(criticalStep_) + " s)";
   // Within the stable step, linear MPM with USL still inverts a particle that crosses alone into
-  // a cell (its far nodes' tiny mass takes a huge velocity; README, "Cell crossing"): a smaller
+  // a cell (its far nodes' tiny mass takes a huge velocity; doc/method.md, "Cell crossing: MPM against GIMP"): a smaller
   // step only makes that rarer.
   if (shape_ == "MPM" && deck_.sublist("Integrator").sublist("Explicit").get<std::string>("Update Scheme") == "USL")
     advice += ", or, if a particle crossed a cell line alone (impact, a moving free surface), use 'Method/Shape Function' = "

@@ -277,7 +277,7 @@ expect_failure(history_interval_zero "History Interval: 10" "History Interval: 0
                "'Output/History Interval' must be at least 1")
 expect_failure(vtk_interval_negative "VTK Interval: 1000" "VTK Interval: -3"
                "'Output/VTK Interval' must be 0 (first and last step only) or positive, got -3")
-# The failure contract (README, "Exit status"): a run that stops early for any reason exits 1
+# The failure contract (doc/user-guide.md, "Exit status"): a run that stops early for any reason exits 1
 # with one message, writes summary.yaml with Status and Failure, history.csv to the last good
 # row, and the last good particles as VTU. `expect_stopped` checks them.
 function(expect_stopped name deck np status key last_good_step rows)

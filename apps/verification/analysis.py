@@ -1,6 +1,6 @@
 """Numbers of the verification report, computed from the runs' histories.
 
-Relative L2 errors follow impm's definition (README, summary.yaml): sqrt(sum (computed -
+Relative L2 errors follow impm's definition (doc/user-guide.md, "Outputs"): sqrt(sum (computed -
 reference)^2 / sum reference^2) over the rows of history.csv, here optionally restricted to
 t <= t_end so that a study can use a shorter window of a longer run.
 """

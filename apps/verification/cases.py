@@ -40,7 +40,7 @@ REDUCED_BEAM_END = 0.25  # about 2.9 periods of the first mode (250 steps of 1e-
 # Variants of a method, beside the decks' settings.
 VARIANTS = {
     # Consistent mass: the residual uses M_C and each particle takes its own Newmark update, so
-    # that residual and particle update are one trapezoidal rule (README). Without the
+    # that residual and particle update are one trapezoidal rule (doc/method.md). Without the
     # consistent-projection correction, which the consistent mass does not need.
     "cmass": {"Integrator/Implicit/Mass Matrix": "Consistent",
               "Integrator/Implicit/Consistent Projection Iterations": 0},

@@ -6,7 +6,7 @@ of a free-vibration standing wave (both ends fixed, u = (V/omega) sin(pi X/L) si
 amplitude is 0.3 of the finest cell, so that particles cross cell lines on the finest grid, with
 a strain amplitude of about 1e-3 (small strain holds). Grids 256, 512, 1024 cells (2 particles
 per cell, dt = h / (2 c), one period). Error measures: u_x(L/2, t) and sigma_xx(L/4, t), relative
-L2 over the history against the exact solution (README, "Cell crossing").
+L2 over the history against the exact solution (doc/method.md, "Cell crossing: MPM against GIMP").
 """
 import math
 import os

@@ -71,7 +71,7 @@ TRANSFER_STABILITY_FRACTION = 0.7
 
 
 def stable_time_step(deck):
-    """The explicit limit impm checks (solvers/SimulationBuilder.cpp): Stability Factor x 0.7 x the
+    """The explicit limit impm checks (solvers/build/IntegratorSection.cpp): Stability Factor x 0.7 x the
     critical step of lumped bilinear cells, 1 / (c_p sqrt(1/hx^2 + 1/hy^2)) with c_p the 2D P-wave
     speed (0.7: apps/stability_study.py)."""
     g = deck["impm"]["Grid"]

@@ -72,7 +72,8 @@ void addIntegratorSchema(ParameterList& valid) {
          "with the averaged gradients, the exact derivative of the GIMP internal force (Newton converges "
          "quadratically, GMRES in a few iterations); Integrated = the seed's D int_Omega_p B^T B, exact per "
          "particle-cell overlap but not the derivative of the GIMP force: once particles straddle cell lines "
-         "GMRES stalls (198 iterations per Newton step, 27 times slower, on a padded cantilever). Worth it "
+         "GMRES stalls (about 200 iterations per Newton step on a padded cantilever, against a few with "
+         "Consistent). Worth it "
          "only to reproduce the seed");
   choice(im, "Grid Acceleration", "Equilibrium", {"Equilibrium", "Projected"},
          "Lumped mass only. Equilibrium: each step starts from a_i = (F_ext + F_int)_i / m_i and the particles "

@@ -40,8 +40,8 @@ Teuchos::ParameterList mueLuDefaults() {
   // iterations of the classic ones on the beam's P (26 against 13 per Newton on 160 x 16, V-cycle).
   d.set("use kokkos refactor", false);
   // A W-cycle with 3 symmetric Gauss-Seidel sweeps (Ifpack2 RELAXATION): 9 GMRES per Newton from
-  // 80 x 8 to 320 x 32; a V-cycle needs 13, MueLu's default Chebyshev 27 (README, "Preconditioners
-  // under refinement").
+  // 80 x 8 to 320 x 32; a V-cycle needs 13, MueLu's default Chebyshev 27 (doc/performance.md,
+  // "Preconditioners under refinement").
   d.set("cycle type", "W");
   d.set("smoother: type", "RELAXATION");
   ParameterList& smoother = d.sublist("smoother: params");

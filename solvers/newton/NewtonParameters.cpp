@@ -198,7 +198,7 @@ RCP<const ParameterList> newtonValidParameters() {
   pl->sublist("MueLu", false,
               "Preconditioner = MUELU: passed to MueLu::CreateTpetraPreconditioner (MueLu checks it); impm's "
               "defaults where it is silent: smoothed aggregation (uncoupled), smoother RELAXATION (Symmetric "
-              "Gauss-Seidel, 2 sweeps), coarse KLU2 below 500 rows, verbosity none. impm sets 'number of "
+              "Gauss-Seidel, 3 sweeps) in a W-cycle, coarse KLU2 below 500 rows, verbosity none. impm sets 'number of "
               "equations' (the dimension) and the near-null space (rigid-body modes) itself")
       .disableRecursiveValidation();
   pl->sublist("NOX", false,
