@@ -101,6 +101,7 @@ class Simulation {
   long long particlesReaching(const Point& lo, const Point& hi) const;
   std::vector<LoadSpec> buildLoads();
   void buildIntegrator();
+  void makeIntegrator();
   ExplicitOptions readExplicitOptions(bool explicitRun);
   ImplicitOptions readImplicitOptions(bool fe) const;
   void noteLoadImbalance(RunResult& r) const;
@@ -175,6 +176,8 @@ class Simulation {
   LoadSet loads_;
   std::vector<Monitor> monitors_;
   std::unique_ptr<Integrator> integrator_;
+  std::shared_ptr<const ExplicitOptions> explicitOptions_;  // read once from the deck
+  std::shared_ptr<const ImplicitOptions> implicitOptions_;  // null for an explicit run
   std::unique_ptr<ExactReference> exact_;
   std::unique_ptr<AxisAlignedManufactured> manufactured_;  // Exact Solution/Type = Axis-Aligned Manufactured Solution
   double dt_ = 0;

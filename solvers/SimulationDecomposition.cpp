@@ -29,7 +29,7 @@ void Simulation::adoptRankGrid(const RankGrid& ranks, bool moveParticles) {
   constraints_ = GridConditions(constraintSpecs_, *dist_);
   loads_ = LoadSet(loadSpecs_, *dist_, loadParticleIds_, (int)bodies_.size(), shapeInfo(shape_).quadraticElements);
   loads_.locateParticles(particles_);
-  buildIntegrator();
+  makeIntegrator();
   integrator_->restoreState(state);
 }
 

@@ -239,8 +239,18 @@ void Simulation::buildIntegrator() {
       throw DeckError(e.what());
     }
   }
-  if (integratorType == "Implicit") {
-    const ImplicitOptions iopt = readImplicitOptions(fe);
+  explicitOptions_ = std::make_shared<const ExplicitOptions>(eopt);
+  if (integratorType == "Implicit") implicitOptions_ = std::make_shared<const ImplicitOptions>(readImplicitOptions(fe));
+  makeIntegrator();
+}
+
+// The integrator from the options read once (buildIntegrator), on the current distribution: also
+// after a load balance, which replaces the maps, conditions and loads it refers to.
+void Simulation::makeIntegrator() {
+  if (implicitOptions_) {
+    ImplicitOptions iopt = *implicitOptions_;
+    // The solver validates its list in place: each integrator gets its own copy of the deck's.
+    iopt.solverParams = Teuchos::rcp(new ParameterList(*implicitOptions_->solverParams));
     // The shape's type from the registry (core/ShapeRegistry.hpp), then the dimension.
     auto implicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
       constexpr int Dim = decltype(dimension)::value;
@@ -255,6 +265,7 @@ void Simulation::buildIntegrator() {
       throw DeckError(e.what());
     }
   } else {
+    const ExplicitOptions& eopt = *explicitOptions_;
     auto explicitOf = [&](auto dimension) -> std::unique_ptr<Integrator> {
       constexpr int Dim = decltype(dimension)::value;
       return visitShape(shape_, [&](auto shape, const ShapeInfo&) -> std::unique_ptr<Integrator> {
