@@ -46,7 +46,6 @@ void Simulation::createParticlesAndConditions(const std::vector<ConstraintSpec>&
   checkConditionsReached(cspecs);
   constraints_ = GridConditions(cspecs, *dist_);
   constraintSpecs_ = cspecs;  // rebuilt for a new rank grid (load balance)
-
 }
 
 }  // namespace impm

@@ -129,7 +129,7 @@ std::pair<std::string, std::string> rodImpact(const std::string& shape, const st
 }
 
 // Linear MPM with USL inverts a particle that crosses alone into a cell beyond the rod's free
-// surface (the cell-crossing weakness, README "Cell crossing"), within the stable step; the
+// surface (the cell-crossing weakness, doc/method.md, "Cell crossing: MPM against GIMP"), within the stable step; the
 // failure names the inverted particle and points to GIMP and MUSL. GIMP and MPM with MUSL run the
 // same 150 steps through.
 TEUCHOS_UNIT_TEST(Bar3d, RodImpactLinearMpmUslInvertsGimpAndMuslDoNot) {

@@ -36,7 +36,7 @@ void checkDisks(const std::string& method, Teuchos::FancyOStream& out, bool& suc
   // The disks' momenta cancel: the total stays zero to round-off of sum m |v| (FLIP moves
   // momentum only through grid forces that sum to zero by partition of unity).
   TEST_COMPARE(r.momentumMaxRelativeChange, <, 1e-12);
-  // Energy: measured drifts are in the README (a few percent lost in the collision: the
+  // Energy: measured drifts are in doc/method.md (a few percent lost in the collision: the
   // single-velocity grid makes the disks stick, which is dissipative); the bound catches a
   // blow-up or a wrong strain energy (the collision turns ~all kinetic energy into strain).
   TEST_COMPARE(std::abs(r.energyRelativeDrift), <, 0.1);

@@ -1,4 +1,4 @@
-// Cell crossing (README, "Cell crossing: MPM against GIMP"): the first mode of a bar fixed at
+// Cell crossing (doc/method.md, "Cell crossing: MPM against GIMP"): the first mode of a bar fixed at
 // both ends, from apps/standing_wave_{mpm,gimp}.yaml, on the deck's grid (1024 cells, where the
 // particles near the middle cross cell lines) and on half of it (512 cells, where no particle
 // reaches a cell line). GIMP converges there; MPM's error jumps by orders of magnitude once

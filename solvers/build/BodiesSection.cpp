@@ -34,7 +34,6 @@ const char* const build::kParticlePlacementDoc =
     "(the beam decks apps/beam_implicit_bspline_*). Gauss needs even Particles Per Cell; not for Particles File "
     "bodies or FE Q4 / FE Q9 (which place their own Gauss points)";
 
-
 RCP<const ParameterList> build::bodiesTemplate() {
   auto pl = rcp(new ParameterList("Bodies"));
   choice(*pl, "Shape", "Rectangle", {"Rectangle", "Ellipse", "Polygon", "Particles File"},

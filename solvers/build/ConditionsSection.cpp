@@ -36,7 +36,6 @@ void build::timeFunctionKeys(ParameterList& pl, const std::string& def, const st
   pl.set("Table", "", "Time Function = Table: 't0, v0; t1, v1; ...' (as Bodies/Vertices), the times increasing (s)");
 }
 
-
 RCP<const ParameterList> build::constraintsTemplate() {
   auto pl = rcp(new ParameterList("Constraints"));
   choice(*pl, "Where", "Face", {"Face", "Node", "Box"},

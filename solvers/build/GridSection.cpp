@@ -97,7 +97,6 @@ void Simulation::readGrid() {
   grid_.hx = positive(g, "Grid", "Cell Size X");
   grid_.hy = positive(g, "Grid", "Cell Size Y");
   thickness_ = positive(g, "Grid", "Thickness");
-
 }
 
 void Simulation::readMethod() {

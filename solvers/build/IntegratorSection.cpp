@@ -140,7 +140,6 @@ void Simulation::applyInitialConditions() {
                       std::to_string(bodies_.size()) + " bodies");
     applyStandingWaveVelocity(particles_, b.rect.xMin, b.rect.length(), icAmplitude, icMode);
   }
-
 }
 
 // Integrator/Explicit: the update scheme and its options, and the stable time step (checked for an

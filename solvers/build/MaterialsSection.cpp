@@ -47,7 +47,6 @@ void Simulation::buildMaterials() {
                                    : PlaneCondition::PlaneStrain;
   if (params.empty()) throw DeckError("'Materials' is empty: a deck with Bodies needs at least one material");
   materials_ = Materials(params, plane);
-
 }
 
 }  // namespace impm

@@ -90,7 +90,6 @@ void Simulation::readManufacturedSolution() {
     early.dimension = grid_.dim;
     manufactured_ = std::make_unique<AxisAlignedManufactured>(axisAlignedManufactured(deck_.sublist("Exact Solution"), early));
   }
-
 }
 
 void Simulation::buildMonitors() {
@@ -108,7 +107,6 @@ void Simulation::buildMonitors() {
     monitors_.push_back(mon);
   }
   energyHistory_ = deck_.sublist("Output").get<bool>("Energy And Momentum");
-
 }
 
 void Simulation::buildExactSolution(const std::vector<ConstraintSpec>& cspecs, const std::vector<LoadSpec>& lspecs) {
@@ -127,7 +125,6 @@ void Simulation::buildExactSolution(const std::vector<ConstraintSpec>& cspecs, c
   context.steps = steps_;
   context.manufactured = manufactured_.get();
   exact_ = makeExactReference(deck_.sublist("Exact Solution"), context);
-
 }
 
 std::string Simulation::describePoint(const Point& p) const {

@@ -125,7 +125,6 @@ void Simulation::readProblem(const std::string& outputOverride) {
   if (outputDir_.empty()) throw DeckError(outputKey_ + " must not be empty");
   // Before any work, on rank 0 (which creates it), the verdict shared by every rank.
   rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] { checkOutputDirectory(outputDir_, outputKey_); });
-
 }
 
 // The output intervals: History Interval counts steps between rows (the last step is always
