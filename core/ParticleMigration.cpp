@@ -40,48 +40,45 @@ ParticleSet::Packed rowsFromHost(const double* buffer, size_t n, int width) {
 }
 }  // namespace
 
-long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int slack) {
-  const auto& comm = *dist.comm();
-  if (comm.getSize() == 1 || ps.fixedPositions()) return 0;
-  const StructuredGrid g = dist.grid();
-  const int rank = comm.getRank(), nd = g.dim;
-  CellBox own{}, margin{};
-  for (int d = 0; d < 3; ++d) {
-    own.lo[d] = dist.cellBegin(d);
-    own.hi[d] = dist.cellEnd(d);
-    margin.lo[d] = own.lo[d] - slack;
-    margin.hi[d] = own.hi[d] + slack;
-  }
-  // Every step: a count only (no allocation); the lists are built on the rare steps that need them.
+namespace {
+
+// Particles outside `box` on this rank: a count only (no allocation), run every step.
+int countOutside(const ParticleSet& ps, const StructuredGrid& g, const CellBox& box) {
   auto x = ps.x;
-  int beyondMargin = 0;
+  const int nd = g.dim;
+  int outside = 0;
   Kokkos::parallel_reduce(
       "migration_count", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count),
       KOKKOS_LAMBDA(int p, int& count) {
         int c[3] = {0, 0, 0};
         for (int d = 0; d < nd; ++d) c[d] = cellIndexOf(g, d, x(p, d));
-        count += margin.contains(c) ? 0 : 1;
+        count += box.contains(c) ? 0 : 1;
       },
-      beyondMargin);
-  int trigger = 0;
-  Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, beyondMargin, Teuchos::outArg(trigger));
-  if (trigger == 0) return 0;
+      outside);
+  return outside;
+}
 
-  // Destinations: every particle outside this rank's box goes to the owner of its cell, which
-  // must be a neighbour (slot in `neighbours`).
-  const RankGrid& ranks = dist.rankGrid();
-  const std::vector<int> neighbours = ranks.neighbours(rank);
-  const int nn = (int)neighbours.size();
-  auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+// Who stays (in the rank's own box) and who leaves for which neighbour (slot in `neighbours`, the
+// owner of the particle's cell). Collective: throws on every rank when a particle went beyond
+// the neighbours' cells.
+struct Departures {
   std::vector<int> stay;
-  std::vector<std::vector<int>> leaving(nn);
+  std::vector<std::vector<int>> leaving;
+  long long count = 0;
+};
+Departures sortByDestination(const ParticleSet& ps, const GridDistribution& dist, const CellBox& own,
+                             const std::vector<int>& neighbours) {
+  const StructuredGrid g = dist.grid();
+  const RankGrid& ranks = dist.rankGrid();
+  auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+  Departures out;
+  out.leaving.resize(neighbours.size());
   int tooFar = 0;
-  long long leavingCount = 0;
   for (int p = 0; p < ps.count; ++p) {
     int c[3] = {0, 0, 0};
-    for (int d = 0; d < nd; ++d) c[d] = cellIndexOf(g, d, xh(p, d));
+    for (int d = 0; d < g.dim; ++d) c[d] = cellIndexOf(g, d, xh(p, d));
     if (own.contains(c)) {
-      stay.push_back(p);
+      out.stay.push_back(p);
       continue;
     }
     const int owner = ranks.ownerOfCell(c[0], c[1], c[2]);
@@ -90,18 +87,23 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int sl
       ++tooFar;
       continue;
     }
-    leaving[slot - neighbours.begin()].push_back(p);
-    ++leavingCount;
+    out.leaving[slot - neighbours.begin()].push_back(p);
+    ++out.count;
   }
   int anyTooFar = 0;
-  Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, tooFar, Teuchos::outArg(anyTooFar));
+  Teuchos::reduceAll(*dist.comm(), Teuchos::REDUCE_MAX, tooFar, Teuchos::outArg(anyTooFar));
   if (anyTooFar > 0)
     throw std::runtime_error("particles moved beyond the neighbouring MPI ranks' cells in one step (use fewer ranks, "
                              "a smaller time step or a smaller 'Decomposition/Migration Slack Cells')");
+  return out;
+}
 
-  const int width = ps.packedWidth();
-  auto packRows = [&](const std::vector<int>& list) { return packList(ps, list); };
-  // Zero-length messages still travel as one padding value, so that every posted receive matches a send.
+// The leaving rows to each neighbour and the arriving rows from each: counts first, then rows,
+// the receives posted before the sends. Zero-length messages still travel as one padding value,
+// so that every posted receive matches a send.
+std::vector<ParticleSet::Packed> exchangeRows(const ParticleSet& ps, const std::vector<std::vector<int>>& leaving,
+                                              const std::vector<int>& neighbours, const Teuchos::Comm<int>& comm) {
+  const int nn = (int)neighbours.size(), width = ps.packedWidth();
   auto toHostRows = [&](const ParticleSet::Packed& rows) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rows);
     Teuchos::ArrayRCP<double> buf(std::max<size_t>(1, rows.extent(0) * width), 0.0);
@@ -109,8 +111,6 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int sl
       for (int c = 0; c < width; ++c) buf[k * width + c] = h(k, c);
     return buf;
   };
-
-  // With each neighbour: counts first, then rows (receives posted before the sends).
   using Request = Teuchos::RCP<Teuchos::CommRequest<int>>;
   auto exchange = [&](std::vector<Teuchos::ArrayRCP<double>>& out, std::vector<Teuchos::ArrayRCP<double>>& in, int tag) {
     std::vector<Request> requests;
@@ -125,21 +125,43 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int sl
   }
   exchange(countsOut, countsIn, 4201);
   for (int s = 0; s < nn; ++s) {
-    rowsOut[s] = toHostRows(packRows(leaving[s]));
+    rowsOut[s] = toHostRows(packList(ps, leaving[s]));
     rowsIn[s] = Teuchos::ArrayRCP<double>(std::max(1, (int)countsIn[s][0] * width), 0.0);
   }
   exchange(rowsOut, rowsIn, 4202);
+  std::vector<ParticleSet::Packed> arrived;
+  for (int s = 0; s < nn; ++s) arrived.push_back(rowsFromHost(rowsIn[s].getRawPtr(), (int)countsIn[s][0], width));
+  return arrived;
+}
 
-  auto rowsOf = [&](const Teuchos::ArrayRCP<double>& buf, int n) { return rowsFromHost(buf.getRawPtr(), n, width); };
+}  // namespace
+
+long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int slack) {
+  const auto& comm = *dist.comm();
+  if (comm.getSize() == 1 || ps.fixedPositions()) return 0;
+  CellBox own{}, margin{};
+  for (int d = 0; d < 3; ++d) {
+    own.lo[d] = dist.cellBegin(d);
+    own.hi[d] = dist.cellEnd(d);
+    margin.lo[d] = own.lo[d] - slack;
+    margin.hi[d] = own.hi[d] + slack;
+  }
+  // The lists are built on the rare steps on which some particle left its rank's margin.
+  int trigger = 0;
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, countOutside(ps, dist.grid(), margin), Teuchos::outArg(trigger));
+  if (trigger == 0) return 0;
+  const std::vector<int> neighbours = dist.rankGrid().neighbours(comm.getRank());
+  const Departures departures = sortByDestination(ps, dist, own, neighbours);
+  const std::vector<ParticleSet::Packed> arrived = exchangeRows(ps, departures.leaving, neighbours, comm);
   // The kept particles keep their order, then the arrivals in increasing rank of their sender:
   // the order depends only on the decomposition (a restart at the same rank count is bit for bit).
   ParticleSet next(0, ps.dim);
   if (ps.hasHistory()) next.allocateHistory();  // J2's b_e and alpha travel with their particles
-  next.unpackAppend(packRows(stay));
-  for (int s = 0; s < nn; ++s) next.unpackAppend(rowsOf(rowsIn[s], (int)countsIn[s][0]));
+  next.unpackAppend(packList(ps, departures.stay));
+  for (const auto& rows : arrived) next.unpackAppend(rows);
   ps = next;
   long long moved = 0;
-  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, leavingCount, Teuchos::outArg(moved));
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, departures.count, Teuchos::outArg(moved));
   return moved;
 }
 

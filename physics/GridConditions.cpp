@@ -9,8 +9,9 @@
 namespace impm {
 
 
-GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist)
-    : dim_(dist.grid().dim), specs_(specs) {
+GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist,
+                               const std::vector<WallSpec>& walls)
+    : dim_(dist.grid().dim), specs_(specs), walls_(walls) {
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
   std::vector<int> nodes, comps, conds;
@@ -41,10 +42,49 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   cond_ = toDevice(conds, "condition_of_dof");
   values_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("condition_values", specs.size(), int(PrescribedField::Count) * 3);
   dofForce_ = Kokkos::View<double*, DeviceType>("condition_dof_force", nodes.size());
-  localReaction_.assign(3 * specs.size(), 0.0);
+  localReaction_.assign(3 * (specs.size() + walls.size()), 0.0);
+
+  // Walls: every owned node on or behind the plane (to round-off), except nodes a constraint moves.
+  std::set<int> prescribedNodes;
+  for (const auto& [n, d] : taken) prescribedNodes.insert(n);
+  std::vector<int> wallNodes, wallOf;
+  wallParams_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_parameters", walls.size(), 3);
+  auto hp = Kokkos::create_mirror_view(wallParams_);
+  for (size_t w = 0; w < walls.size(); ++w) {
+    const WallSpec& wall = walls[w];
+    names_.push_back(wall.name);
+    prescribed_.push_back({true, true, g.dim == 3});
+    hp(w, 0) = wall.axis;
+    hp(w, 1) = wall.side;
+    hp(w, 2) = wall.friction;
+    const double tolerance = 1e-9 * g.spacing(wall.axis);
+    for (int i = owned.lo[0]; i < owned.end(0); ++i)
+      for (int j = owned.lo[1]; j < owned.end(1); ++j)
+        for (int k = owned.lo[2]; k < owned.end(2); ++k) {
+          const int ijk[3] = {i, j, k};
+          const double x = g.origin(wall.axis) + g.spacing(wall.axis) * ijk[wall.axis];
+          if (wall.side * (x - wall.position) > tolerance || prescribedNodes.count(owned(i, j, k))) continue;
+          wallNodes.push_back(owned(i, j, k));
+          wallOf.push_back((int)w);
+        }
+  }
+  Kokkos::deep_copy(wallParams_, hp);
+  wallNode_ = toDevice(wallNodes, "wall_nodes");
+  wallOf_ = toDevice(wallOf, "wall_of_node");
+  wallForce_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_node_force", wallNodes.size(), 3);
+}
+
+void GridConditions::sumWallReactions() {
+  auto force = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), wallForce_);
+  auto wall = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), wallOf_);
+  const size_t first = 3 * specs_.size();
+  std::fill(localReaction_.begin() + first, localReaction_.end(), 0.0);
+  for (size_t k = 0; k < force.extent(0); ++k)
+    for (int d = 0; d < 3; ++d) localReaction_[first + 3 * wall(k) + d] += force(k, d);
 }
 
 void GridConditions::setStep(double t, double dt) {
+  dt_ = dt;
   auto h = Kokkos::create_mirror_view(values_);
   zero_.fill(true);
   for (size_t c = 0; c < specs_.size(); ++c) {
@@ -83,7 +123,7 @@ void GridConditions::sumReactions() {
   auto force = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dofForce_);
   auto comp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), comp_);
   auto cond = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), cond_);
-  std::fill(localReaction_.begin(), localReaction_.end(), 0.0);
+  std::fill(localReaction_.begin(), localReaction_.begin() + 3 * specs_.size(), 0.0);
   for (size_t k = 0; k < force.extent(0); ++k) localReaction_[3 * cond(k) + comp(k)] += force(k);
 }
 

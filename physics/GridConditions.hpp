@@ -9,9 +9,16 @@
 //                   grid displacement at every residual -> the converged residual at the
 //                   prescribed dofs recorded as the reaction -> g2p
 // A dof named by two conditions belongs to the first (the deck refuses two different motions).
+//
+// Rigid walls (explicit): a wall is the plane x_axis = position with the bodies on one side. A grid
+// node on or behind it that would move into it after the grid update loses that normal velocity
+// (and gains nothing if it moves away: contact is one-sided), and Coulomb friction takes off at
+// most `friction` times the normal velocity change from its tangential velocity (stopping it when
+// that suffices); its reaction is m dv / dt. Nodes with a prescribed component keep their motion.
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -32,10 +39,20 @@ enum class PrescribedField : int {
   Count = 7
 };
 
+// A rigid wall: the plane x_axis = position, the bodies on the side `side` (+1: x_axis >= position).
+struct WallSpec {
+  std::string name;
+  int axis = 1;
+  int side = 1;
+  double position = 0.0;
+  double friction = 0.0;  // Coulomb coefficient (0: frictionless)
+};
+
 class GridConditions {
  public:
   GridConditions() = default;
-  GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist);
+  GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist,
+                 const std::vector<WallSpec>& walls = {});
 
   // Evaluates the conditions' time functions for the step [t, t + dt] (host; cheap). Every hook
   // below uses the step last set.
@@ -75,7 +92,19 @@ class GridConditions {
       return sums(n, massCol) * kin(n, accCol + d) - sums(n, fintCol + d) - sums(n, fextCol + d) +
              damping * sums(n, momCol + d);
     });
+    if (hasWalls()) {
+      wallContact<ExecSpace>(sums, massCol, kin, velCol, accCol, true);
+      sumWallReactions();
+    }
   }
+
+  // The walls on a grid velocity field alone (the velocity the stress is computed from, with USF
+  // and MUSL): velocity into a wall removed, friction as above; no acceleration, no reaction.
+  template <class ExecSpace, class SumsView, class VelocityView>
+  void enforceWalls(const SumsView& sums, int massCol, const VelocityView& vel, int velCol) const {
+    if (hasWalls()) wallContact<ExecSpace>(sums, massCol, vel, velCol, -1, false);
+  }
+  bool hasWalls() const { return wallNode_.extent(0) > 0 || !walls_.empty(); }
 
   bool empty() const { return names_.empty(); }
   // Whether `field` is zero at every dof for the step last set (a write of it can be skipped
@@ -93,6 +122,38 @@ class GridConditions {
 
  private:
   void sumReactions();
+  void sumWallReactions();
+  // The contact of every wall node (see the file comment): kin's velocity (and acceleration, when
+  // accCol >= 0) corrected; with `record`, each node's reaction m dv / dt into wallForce_.
+  template <class ExecSpace, class SumsView, class KinView>
+  void wallContact(const SumsView& sums, int massCol, const KinView& kin, int velCol, int accCol, bool record) const {
+    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto force = wallForce_;
+    const int dim = dim_;
+    const double dt = dt_;
+    Kokkos::parallel_for(
+        "wall_contact", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          const int n = node(k), w = wall(k);
+          const int axis = (int)params(w, 0);
+          const double side = params(w, 1), mu = params(w, 2), m = sums(n, massCol);
+          double dv[3] = {0.0, 0.0, 0.0};
+          const double vn = side * kin(n, velCol + axis);
+          if (m > 0.0 && vn < 0.0) {
+            dv[axis] = -kin(n, velCol + axis);
+            double vt2 = 0.0;
+            for (int d = 0; d < dim; ++d)
+              if (d != axis) vt2 += kin(n, velCol + d) * kin(n, velCol + d);
+            const double vt = std::sqrt(vt2), limit = -mu * vn;
+            const double removed = vt <= limit ? 1.0 : limit / vt;  // the tangential fraction friction stops
+            for (int d = 0; d < dim; ++d)
+              if (d != axis) dv[d] = -removed * kin(n, velCol + d);
+          }
+          for (int d = 0; d < dim; ++d) {
+            kin(n, velCol + d) += dv[d];
+            if (accCol >= 0) kin(n, accCol + d) += dv[d] / dt;
+            if (record) force(k, d) = m * dv[d] / dt;
+          }
+        });
+  }
   int dim_ = 2;
   std::vector<ConstraintSpec> specs_;
   std::vector<std::string> names_;
@@ -101,7 +162,13 @@ class GridConditions {
   // Per condition: PrescribedField::Count x 3 components, for the step last set.
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> values_;
   Kokkos::View<double*, DeviceType> dofForce_;
-  std::vector<double> localReaction_;
+  std::vector<double> localReaction_;  // 3 per condition, then 3 per wall
+  // Walls: the specs, each wall node (owned local index) and its wall, per wall (axis, side,
+  // friction), and each wall node's last reaction.
+  std::vector<WallSpec> walls_;
+  Kokkos::View<int*, DeviceType> wallNode_, wallOf_;
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> wallParams_, wallForce_;
+  double dt_ = 0.0;
   std::array<bool, int(PrescribedField::Count)> zero_{};
 };
 

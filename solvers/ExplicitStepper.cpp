@@ -72,6 +72,7 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
   } else {  // (update stress first: the velocity at the start of the step)
     conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity);
     conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero);
+    conditions_.template enforceWalls<Exec>(acc, A::Mass, kinv, K::VelX);
   }
 }
 
@@ -145,6 +146,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
             for (int d = 0; d < Dim; ++d) acc(n, A::MomX + d) = m > cutoff ? acc(n, A::MomX + d) / m : 0.0;
           });
       conditions_.template write<Exec>(acc, A::MomX, PrescribedField::EndVelocity);
+      conditions_.template enforceWalls<Exec>(acc, A::Mass, acc, A::MomX);
     }
     fields_.importAccumulated();
     stressFromGhostedVelocity(dt, true);

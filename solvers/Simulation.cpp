@@ -249,16 +249,8 @@ RunResult Simulation::run(std::ostream& log) {
   RunObservers observers;
   const HistoryOutput& historyOutput = addObservers(observers, history);
 
-  // Load balance (Decomposition/Load Balance Interval): at the start and every interval steps,
-  // when the imbalance exceeds the threshold. Monitors follow their particles by global id.
-  const bool balancing = loadBalanceInterval_ > 0 && comm_->getSize() > 1;
-  auto balanceLoad = [&] {
-    if (!rebalance()) return;
-    ++r.rebalances;
-    history.locateMonitors();
-    noteLoadImbalance(r);
-  };
-  if (balancing && !restarted_ && r.loadImbalance > loadBalanceThreshold_) balanceLoad();
+  // Load balance (Decomposition/Load Balance Interval): at the start and every interval steps.
+  if (!restarted_) balanceLoad(history, r);
 
   observers.begin({firstStep, firstStep * dt_}, r);
   using clock = std::chrono::steady_clock;
@@ -295,24 +287,8 @@ RunResult Simulation::run(std::ostream& log) {
     const ParticleAudit audit = auditParticles();
     if (audit.divergence > kDivergedStrain)  // the last good state is the last history row's
       throw failRun(n + 1, "diverged", divergenceMessage(audit.divergence, n + 1, tNew), timeStepAdvice(), false);
-    // The audit's reach count holds unless particles changed ranks since (migration, balancing).
-    bool particlesMoved = false;
-    if (const long long moved = migrateParticles(particles_, *dist_, migrationSlack_); moved > 0) {
-      particlesMoved = true;
-      // Local indices changed: find the monitored and loaded particles by global id.
-      loads_.locateParticles(particles_);
-      history.locateMonitors();
-      ++r.migrations;
-      r.migratedParticles += moved;
-      noteLoadImbalance(r);
-    }
-    if (balancing && (n + 1) % loadBalanceInterval_ == 0 && r.loadImbalance > loadBalanceThreshold_) {
-      balanceLoad();
-      particlesMoved = true;
-    }
     try {
-      if (particlesMoved) checkParticlesInReach(tNew);
-      else reportParticlesOutOfReach(audit.outOfReach, tNew);
+      redistribute(n + 1, audit, history, r);
     } catch (const ParticlesOutOfReach& e) {
       throw failRun(n + 1, "left the grid", e.what(), e.advice, false);
     }
@@ -340,6 +316,39 @@ const HistoryOutput& Simulation::addObservers(RunObservers& observers, History& 
   observers.add(std::make_unique<ProgressLine>(out.get<bool>("Progress") && comm_->getRank() == 0, steps_));
   observers.add(std::make_unique<SummaryOutput>(comm_, [this](const RunResult& result) { writeSummary(result); }));
   return historyOutput;
+}
+
+// When the imbalance exceeds the threshold (and balancing is on): new cuts between the ranks.
+// Monitors follow their particles by global id.
+void Simulation::balanceLoad(History& history, RunResult& r) {
+  if (loadBalanceInterval_ <= 0 || comm_->getSize() == 1 || r.loadImbalance <= loadBalanceThreshold_) return;
+  if (!rebalance()) return;
+  ++r.rebalances;
+  history.locateMonitors();
+  noteLoadImbalance(r);
+}
+
+// After step `step`: particles migrate to their ranks (lazily, Migration Slack Cells), the load is
+// balanced every Load Balance Interval steps, and every particle must still be within its rank's
+// reach (throws ParticlesOutOfReach). The audit's reach count holds unless particles changed ranks.
+void Simulation::redistribute(int step, const ParticleAudit& audit, History& history, RunResult& r) {
+  bool particlesMoved = false;
+  if (const long long moved = migrateParticles(particles_, *dist_, migrationSlack_); moved > 0) {
+    particlesMoved = true;
+    // Local indices changed: find the monitored and loaded particles by global id.
+    loads_.locateParticles(particles_);
+    history.locateMonitors();
+    ++r.migrations;
+    r.migratedParticles += moved;
+    noteLoadImbalance(r);
+  }
+  if (loadBalanceInterval_ > 0 && step % loadBalanceInterval_ == 0) {
+    const int before = r.rebalances;
+    balanceLoad(history, r);
+    particlesMoved = particlesMoved || r.rebalances != before;
+  }
+  if (particlesMoved) checkParticlesInReach(step * dt_);
+  else reportParticlesOutOfReach(audit.outOfReach, step * dt_);
 }
 
 // Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.

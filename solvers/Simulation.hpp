@@ -93,6 +93,8 @@ class Simulation {
   void buildMonitors();
   void buildExactSolution(const std::vector<ConstraintSpec>& cspecs, const std::vector<LoadSpec>& lspecs);
   std::vector<ConstraintSpec> buildConstraints();
+  std::vector<WallSpec> buildWalls() const;
+  void checkParticlesBesideWalls(const std::vector<WallSpec>& walls) const;
   TimeFunction timeFunctionOf(const Teuchos::ParameterList& list, const std::string& key) const;
   void readMotion(const Teuchos::ParameterList& list, const std::string& key, ConstraintSpec& spec) const;
   void checkConditionOverlaps(const std::vector<ConstraintSpec>& specs) const;
@@ -132,6 +134,8 @@ class Simulation {
   std::string timeStepAdvice() const;
   void writeSummary(const RunResult& r) const;
   void createOutputDirectory() const;
+  void balanceLoad(History& history, RunResult& r);
+  void redistribute(int step, const ParticleAudit& audit, History& history, RunResult& r);
   const HistoryOutput& addObservers(RunObservers& observers, History& history);
   std::string divergenceMessage(double divergence, int step, double t) const;
   void reportRun(const RunResult& r, std::ostream& log) const;
@@ -169,6 +173,7 @@ class Simulation {
   int loadBalanceInterval_ = 0;
   double loadBalanceThreshold_ = 1.1;
   std::vector<ConstraintSpec> constraintSpecs_;
+  std::vector<WallSpec> wallSpecs_;
   std::vector<LoadSpec> loadSpecs_;
   std::vector<long long> loadParticleIds_;
   ParticleSet particles_;

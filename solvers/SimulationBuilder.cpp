@@ -44,7 +44,9 @@ void Simulation::createParticlesAndConditions(const std::vector<ConstraintSpec>&
     throw DeckError(e.what());
   }
   checkConditionsReached(cspecs);
-  constraints_ = GridConditions(cspecs, *dist_);
+  wallSpecs_ = buildWalls();  // ConditionsSection.cpp
+  checkParticlesBesideWalls(wallSpecs_);
+  constraints_ = GridConditions(cspecs, *dist_, wallSpecs_);
   constraintSpecs_ = cspecs;  // rebuilt for a new rank grid (load balance)
 }
 

@@ -26,7 +26,7 @@ void Simulation::adoptRankGrid(const RankGrid& ranks, bool moveParticles) {
   integrator_.reset();             // it refers to the maps, constraints and loads replaced below
   dist_ = std::make_unique<GridDistribution>(grid_, comm_, dist_->ghostWidth(), ranks);
   if (moveParticles) sendParticlesToOwners(particles_, *dist_);
-  constraints_ = GridConditions(constraintSpecs_, *dist_);
+  constraints_ = GridConditions(constraintSpecs_, *dist_, wallSpecs_);
   loads_ = LoadSet(loadSpecs_, *dist_, loadParticleIds_, (int)bodies_.size(), shapeInfo(shape_).quadraticElements);
   loads_.locateParticles(particles_);
   makeIntegrator();

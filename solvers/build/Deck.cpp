@@ -22,7 +22,7 @@ using Teuchos::rcp;
 
 namespace {
 
-const std::set<std::string> kCollections = {"Materials", "Bodies", "Constraints", "Loads", "Monitors"};
+const std::set<std::string> kCollections = {"Materials", "Bodies", "Constraints", "Walls", "Loads", "Monitors"};
 // Sublists handed unchanged to Trilinos packages, which validate them themselves.
 const std::set<std::string> kPassThrough = {"Implicit Solver"};
 
@@ -110,6 +110,8 @@ RCP<const ParameterList> validParameters() {
                  "see --print-defaults").disableRecursiveValidation();
   v.sublist("Constraints", false, "named sublists, each a displacement constraint (see --print-defaults)")
       .disableRecursiveValidation();
+  v.sublist("Walls", false, "named sublists, each a rigid wall the bodies meet (explicit; see --print-defaults)")
+      .disableRecursiveValidation();
   v.sublist("Loads", false, "named sublists, each an external load").disableRecursiveValidation();
   v.sublist("Monitors", false, "named sublists, each a particle quantity recorded in history.csv")
       .disableRecursiveValidation();
@@ -123,6 +125,7 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
   if (collection == "Materials") return materialSchema();
   if (collection == "Bodies") return build::bodiesTemplate();
   if (collection == "Constraints") return build::constraintsTemplate();
+  if (collection == "Walls") return build::wallsTemplate();
   if (collection == "Loads") return build::loadsTemplate();
   if (collection == "Monitors") return build::monitorsTemplate();
   throw std::logic_error("no collection " + collection);

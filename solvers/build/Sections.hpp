@@ -28,6 +28,7 @@ namespace build {
 Teuchos::RCP<const Teuchos::ParameterList> bodiesTemplate();       // BodiesSection.cpp
 Teuchos::RCP<const Teuchos::ParameterList> constraintsTemplate();  // ConditionsSection.cpp
 Teuchos::RCP<const Teuchos::ParameterList> loadsTemplate();
+Teuchos::RCP<const Teuchos::ParameterList> wallsTemplate();
 Teuchos::RCP<const Teuchos::ParameterList> monitorsTemplate();     // MonitorsSection.cpp
 // The time-function keys of a load or a prescribed motion (physics/TimeFunction.hpp).
 void timeFunctionKeys(Teuchos::ParameterList& pl, const std::string& def, const std::string& what);

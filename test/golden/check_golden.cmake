@@ -2,7 +2,7 @@
 # significant digits) and solver counters must stay identical bit for bit, and the stored
 # `impm --print-defaults`. A refactoring that keeps answers keeps these files; a change that
 # moves answers regenerates them on purpose (-DUPDATE=ON) and says why in its commit.
-#   cmake -DIMPM=build/apps/impm -DSRC=. -DWORK=/tmp/golden [-DUPDATE=ON] [-DONLY=name] -P test/golden/check_golden.cmake
+#   OMP_NUM_THREADS=1 cmake -DIMPM=build/apps/impm -DSRC=. -DWORK=/tmp/golden [-DUPDATE=ON] [-DONLY=name] -P test/golden/check_golden.cmake
 # Each case: name, deck in apps/, number of steps, history interval, then pairs of
 # "regex" "replacement" applied to the deck text (a scheme or shape function swapped in).
 set(CASES
@@ -29,6 +29,8 @@ set(CASES
   "implicit_cpgimp_column|column_implicit_cpgimp_neohookean.yaml|4|1"
   "implicit_bar3d_mpm|bar3d_implicit_mpm.yaml|10|1"
   "implicit_platens_j2_displacement|platens_implicit_mpm_j2.yaml|20|1"
+  "wall_bar_gimp|bar_wall_impact_explicit_gimp.yaml|500|10"
+  "wall_block_friction_gimp|block_sliding_friction_explicit_gimp.yaml|400|40"
   "explicit_platens_gimp_velocity|platens_implicit_mpm_j2.yaml|400|40|Type: Implicit|Type: Explicit|Time Step: 0.5|Time Step: 2.0e-5|Shape Function: MPM|Shape Function: GIMP|Motion: Displacement|Motion: Velocity|Value Y: -0.01|Value Y: -1.0|Ramp Time: 10.0|Ramp Time: 2.0e-3"
 )
 # Lines of summary.yaml that count solver work (and the run's status).
