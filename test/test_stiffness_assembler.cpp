@@ -1,8 +1,8 @@
-// StiffnessAssembler (solvers/implicit/): the assembled P, filled on the device, is the sum of the
-// stiffness kernel's blocks taken in block order, bit for bit, at any thread count (the suite runs
-// this at 1 and 2 OpenMP threads). A fill that summed in the order threads happen to reach an
-// entry would differ in the last bits where contributions of particles handled by different
-// threads meet.
+// StiffnessAssembler (solvers/implicit/): the assembled P is the sum of the stiffness kernel's
+// blocks taken in block order, bit for bit, at any thread count (the suite runs this at 1 and 2
+// OpenMP threads), with the sequential fill (the host's) and with the parallel gather (a device's).
+// A fill that summed in the order threads happen to reach an entry would differ in the last bits
+// where contributions of particles handled by different threads meet.
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
 
@@ -18,7 +18,7 @@ namespace {
 
 using namespace impm;
 
-TEUCHOS_UNIT_TEST(StiffnessAssembler, SumsBlocksInBlockOrderBitForBit) {
+void checkFill(StiffnessFill fill, Teuchos::FancyOStream& out, bool& success) {
   auto comm = Tpetra::getDefaultComm();
   if (comm->getSize() != 1) return;  // the reference below is one rank's (the Export sums ranks)
   StructuredGrid g;
@@ -40,6 +40,7 @@ TEUCHOS_UNIT_TEST(StiffnessAssembler, SumsBlocksInBlockOrderBitForBit) {
   LoadSet loads({}, dist, {}, 1);
   ImplicitOptions opt;
   opt.consistentMass = true;  // the mass in the blocks too: P is the blocks' sum alone
+  opt.stiffnessFill = fill;
   opt.solverParams = Teuchos::rcp(new Teuchos::ParameterList("Implicit Solver"));
   opt.solverParams->set("Jacobian", "Assembled");
   const double dt = 1e-7;
@@ -89,12 +90,15 @@ TEUCHOS_UNIT_TEST(StiffnessAssembler, SumsBlocksInBlockOrderBitForBit) {
   }
   for (const auto& [rc, value] : reference)
     if (value != 0.0 && assembled.find(rc) == assembled.end()) ++missing;
-  out << entries << " entries of P (" << Kb.count << " blocks, " << Kokkos::DefaultExecutionSpace().concurrency()
+  out << (fill == StiffnessFill::Parallel ? "parallel" : "sequential") << " fill, " << entries << " entries of P (" << Kb.count << " blocks, " << Kokkos::DefaultExecutionSpace().concurrency()
       << " thread(s)): " << differing << " differ from the sequential block-order sum (largest relative difference "
       << largestDifference << "), " << missing << " of the reference missing\n";
   TEST_COMPARE(entries, >, 1000);
   TEST_EQUALITY(differing, 0);
   TEST_EQUALITY(missing, 0);
 }
+
+TEUCHOS_UNIT_TEST(StiffnessAssembler, SequentialFillSumsBlocksInBlockOrder) { checkFill(StiffnessFill::Sequential, out, success); }
+TEUCHOS_UNIT_TEST(StiffnessAssembler, ParallelFillSumsBlocksInBlockOrder) { checkFill(StiffnessFill::Parallel, out, success); }
 
 }  // namespace

@@ -82,6 +82,8 @@ struct ImplicitOptions {
   // smallest sub-step allowed (0: dt / 2^maxStepHalvings).
   bool adaptiveTimeStep = false;
   double minimumTimeStep = 0.0;
+  // How the assembled P's values are summed (StiffnessAssembler.hpp; the same bits either way).
+  StiffnessFill stiffnessFill = StiffnessFill::Auto;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 

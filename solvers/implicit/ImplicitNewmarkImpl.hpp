@@ -39,7 +39,8 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
       projection_(dist),
       solver_(std::make_unique<NewtonSolver>(options.solverParams)),
       seedGimpStiffness_(std::is_same<Shape, UniformGimp>::value && options.seedGimpStiffness),
-      assembler_(dist, implicit::stiffnessBlockNodes<Shape>(seedGimpStiffness_), implicit::stiffnessBlockStride<Shape>()),
+      assembler_(dist, implicit::stiffnessBlockNodes<Shape>(seedGimpStiffness_), implicit::stiffnessBlockStride<Shape>(),
+                 options.stiffnessFill),
       refresh_(solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free", options.preconditionerRefreshInterval,
                options.preconditionerRefreshKrylov, options.preconditionerEveryNewton),
       control_(options.maxStepHalvings, options.adaptiveTimeStep, options.minimumTimeStep) {

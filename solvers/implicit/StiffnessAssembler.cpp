@@ -8,8 +8,11 @@
 namespace impm {
 
 template <int Dim>
-StiffnessAssembler<Dim>::StiffnessAssembler(const GridDistribution& dist, int blockNodes, int blockStride)
+StiffnessAssembler<Dim>::StiffnessAssembler(const GridDistribution& dist, int blockNodes, int blockStride,
+                                            StiffnessFill fill)
     : dist_(dist) {
+  constexpr bool hostExecution = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible;
+  parallelFill_ = fill == StiffnessFill::Parallel || (fill == StiffnessFill::Auto && !hostExecution);
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& gix = dist.ghostedIndexer();
   blocks_.stride = blockStride;
@@ -180,12 +183,32 @@ void StiffnessAssembler<Dim>::sumBlocks(const BlockMatrices& Kb) const {
 }
 
 template <int Dim>
+void StiffnessAssembler<Dim>::sumBlocksSequential(const BlockMatrices& Kb) const {
+  auto values = overlapP_->getLocalMatrixDevice().values;
+  auto hv = Kokkos::create_mirror_view(values);
+  auto O = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.origin);
+  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.K);
+  auto offsets = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), blockOffsets_);
+  const long ndd = long(nd_) * nd_;
+  if (Kb.count > 0 && long(Kb.K.extent(1)) * long(Kb.K.extent(2)) != ndd)
+    throw std::logic_error("StiffnessAssembler: the stiffness blocks do not match the assembler's block size");
+  Kokkos::deep_copy(hv, 0.0);
+  for (int k = 0; k < Kb.count; ++k) {
+    const long* off = &offsets(blocks_.index(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0) * ndd);
+    for (long rc = 0; rc < ndd; ++rc)
+      if (off[rc] >= 0) hv(off[rc]) += K(k, rc / nd_, rc % nd_);
+  }
+  Kokkos::deep_copy(values, hv);
+}
+
+template <int Dim>
 void StiffnessAssembler<Dim>::fill(const BlockMatrices& blocks, const FreeDofMap<Dim>& dofs,
                                    const MultiVector* lumpedMass, int massColumn, double massFactor) {
   using Exec = ExecutionSpace;
   const auto unknownMap = dofs.map();
   overlapP_->resumeFill();
-  sumBlocks(blocks);
+  if (parallelFill_) sumBlocks(blocks);
+  else sumBlocksSequential(blocks);
   if (lumpedMass) {
     auto values = overlapP_->getLocalMatrixDevice().values;
     auto m = lumpedMass->getLocalViewDevice(Tpetra::Access::ReadOnly);

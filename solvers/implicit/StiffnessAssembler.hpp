@@ -7,9 +7,12 @@
 // only change values and Ifpack2 keeps its symbolic set-up. Each rank fills an overlap matrix
 // over its ghost region and one Export sums the overlapping rows.
 //
-// Values are filled on the device and deterministically: every matrix entry sums its block
-// contributions in block order, the order of a sequential loop over the blocks, so that P is the
-// same bit for bit at any thread count.
+// Values are filled deterministically: every matrix entry sums its block contributions in block
+// order, so that P is the same bit for bit at any thread count. On a host execution space
+// (OpenMP) one sequential pass over the blocks does it; on a device, a parallel gather that sums
+// each entry's contributions in the same order (the choice: Fill; the two agree bit for bit,
+// test_stiffness_assembler). The sequential pass is the faster on the host: it launches no
+// kernels, which cost about a millisecond each when the threads have gone idle in a direct solve.
 #pragma once
 
 #include <Tpetra_CrsMatrix.hpp>
@@ -22,12 +25,16 @@
 
 namespace impm {
 
+// How the values are summed: Auto (Sequential on a host execution space, Parallel on a device).
+enum class StiffnessFill { Auto, Sequential, Parallel };
+
 template <int Dim>
 class StiffnessAssembler {
  public:
   // Blocks of blockNodes nodes per direction (fewer on a grid with fewer nodes) whose first nodes
   // are multiples of blockStride (2 for Q9 elements, else 1).
-  StiffnessAssembler(const GridDistribution& dist, int blockNodes, int blockStride);
+  StiffnessAssembler(const GridDistribution& dist, int blockNodes, int blockStride,
+                     StiffnessFill fill = StiffnessFill::Auto);
 
   // The graph for the free dofs flagged (> 1/2) in columns freeX.. of the ghosted grid state;
   // kept while that set is unchanged on every rank. Collective. True when (re)built.
@@ -60,11 +67,13 @@ class StiffnessAssembler {
   template <class Visit>
   void forEachBlockCoupling(const MultiVector& stateGhosted, int freeX, Visit&& visit) const;
   void buildGraph(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs);
-  void sumBlocks(const BlockMatrices& blocks) const;
+  void sumBlocks(const BlockMatrices& blocks) const;            // the parallel gather
+  void sumBlocksSequential(const BlockMatrices& blocks) const;  // one pass, block after block
 
   const GridDistribution& dist_;
   BlockGrid blocks_;
   int nd_ = 0;  // dofs per block
+  bool parallelFill_ = false;
   Teuchos::RCP<CrsMatrix> P_, overlapP_;
   Teuchos::RCP<const Export> exporter_;
   std::vector<GO> patternKey_;
