@@ -84,6 +84,7 @@ class NewmarkBar : public impm::ResidualModel {
   // the same map.
   void scaleLoad(double factor) { load_ *= factor; }
   bool freshMapObject = false;
+  bool nanInMatrix = false;  // P with a NaN: the preconditioned linear solve breaks down
 
   void residual(const Vector& u, Vector& R) override {
     if (offset != 0.0) {
@@ -118,6 +119,7 @@ class NewmarkBar : public impm::ResidualModel {
     for (LO i = 0; i < static_cast<LO>(cols_.size()); ++i) {
       std::vector<Scalar> vals = vals_[i];
       vals[diag_[i]] += 3 * c_ * uh(i, 0) * uh(i, 0);
+      if (nanInMatrix && i == 0) vals[diag_[i]] = std::nan("");
       J->replaceGlobalValues(map_->getGlobalElement(i), Teuchos::ArrayView<const GO>(cols_[i]),
                              Teuchos::ArrayView<const Scalar>(vals));
     }
@@ -638,5 +640,26 @@ TEUCHOS_UNIT_TEST(NewtonSolver, FailedCallRebuildsNext) {
   Vector u(a.unknownMap());
   TEST_THROW(solver.solve(a, u), std::invalid_argument);
   TEST_THROW(solver.solve(a, u), std::invalid_argument);
+  TEST_EQUALITY(solver.setUpBuilds(), 2);
+}
+
+TEUCHOS_UNIT_TEST(NewtonSolver, LinearSolveBreakdownIsAFailedSolveNotAnException) {
+  // A linear solve that breaks down (here Belos on the NaN an ILU of a NaN P returns) fails this
+  // Newton solve with its reason, as a Newton iteration limit would: the implicit step is then
+  // retried smaller, or the run stops with its record (Status, Failure, last good state), instead
+  // of an exception that leaves none. The next solve builds its NOX set-up afresh and converges.
+  NewmarkBar bar(200, kCubic);
+  bar.nanInMatrix = true;
+  NewtonSolver solver(params("Jacobian-Free", "RILUK"));
+  Vector u(bar.unknownMap());
+  NewtonResult r;
+  TEST_NOTHROW(r = solver.solve(bar, u));
+  out << summarize(r) << "\n";
+  TEST_ASSERT(!r.converged);
+  TEST_ASSERT(r.reason.find("the linear solve broke down") != std::string::npos);
+  bar.nanInMatrix = false;
+  Vector v(bar.unknownMap());
+  const NewtonResult again = solver.solve(bar, v);
+  TEST_ASSERT(again.converged);
   TEST_EQUALITY(solver.setUpBuilds(), 2);
 }

@@ -16,14 +16,16 @@ StiffnessAssembler<Dim>::StiffnessAssembler(const GridDistribution& dist, int bl
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& gix = dist.ghostedIndexer();
   blocks_.stride = blockStride;
-  // Along each direction the blocks start at multiples of the stride and lie inside the rank's
-  // ghosted box of nodes.
+  // Along each direction the blocks start at multiples of the stride inside the rank's ghosted box
+  // of nodes. A block may reach past the box's far end: a particle near it whose stencil spans fewer
+  // nodes than a block (a CPDI domain, a GIMP particle away from a cell line) has its block start
+  // there; the block's nodes outside the box are not coupled (the particle does not reach them).
   for (int d = 0; d < Dim; ++d) {
     const int bn = std::min(blockNodes, g.cells(d) + 1);
     const int first = ((gix.lo[d] + blockStride - 1) / blockStride) * blockStride;
     blocks_.nodes[d] = bn;
     blocks_.first[d] = first;
-    blocks_.count[d] = gix.end(d) - bn >= first ? (gix.end(d) - bn - first) / blockStride + 1 : 0;
+    blocks_.count[d] = gix.end(d) - 1 >= first ? (gix.end(d) - 1 - first) / blockStride + 1 : 0;
   }
   nd_ = Dim * blocks_.nodeCount();
 }
@@ -44,10 +46,12 @@ void StiffnessAssembler<Dim>::forEachBlockCoupling(const MultiVector& stateGhost
       for (int ck = 0; ck < b.count[2]; ++ck) {
         const int bi = b.first[0] + ci * b.stride, bj = b.first[1] + cj * b.stride, bk = b.first[2] + ck * b.stride;
         for (int a = 0; a < nodeCount; ++a) {
-          const int ln = gix(bi + a % b.nodes[0], bj + (a / b.nodes[0]) % b.nodes[1], bk + a / (b.nodes[0] * b.nodes[1]));
+          const int i = bi + a % b.nodes[0], j = bj + (a / b.nodes[0]) % b.nodes[1], k = bk + a / (b.nodes[0] * b.nodes[1]);
+          const bool inBox = gix.contains(i, j, k);
+          const int ln = inBox ? gix(i, j, k) : 0;
           for (int d = 0; d < Dim; ++d) {
-            gid[Dim * a + d] = FreeDofMap<Dim>::gid(ghostMap->getGlobalElement(ln), d);
-            freeDof[Dim * a + d] = sg(ln, freeX + d) > 0.5;
+            gid[Dim * a + d] = inBox ? FreeDofMap<Dim>::gid(ghostMap->getGlobalElement(ln), d) : -1;
+            freeDof[Dim * a + d] = inBox && sg(ln, freeX + d) > 0.5;
           }
         }
         for (int r = 0; r < nd; ++r)
@@ -141,10 +145,11 @@ void StiffnessAssembler<Dim>::sumBlocks(const BlockMatrices& Kb) const {
   const BlockGrid grid = blocks_;
   auto offsets = blockOffsets_;
   auto O = Kb.origin;
+  const long blockCount = grid.size();
   auto entryOf = KOKKOS_LAMBDA(long i) {
     const long k = i / ndd;
     const long b = grid.index(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0);
-    return offsets(b * ndd + i % ndd);
+    return b >= 0 && b < blockCount ? offsets(b * ndd + i % ndd) : -1L;
   };
   Kokkos::View<long*, DeviceType> start("entry_start", nnz + 1);
   Kokkos::parallel_for(
@@ -194,7 +199,10 @@ void StiffnessAssembler<Dim>::sumBlocksSequential(const BlockMatrices& Kb) const
     throw std::logic_error("StiffnessAssembler: the stiffness blocks do not match the assembler's block size");
   Kokkos::deep_copy(hv, 0.0);
   for (int k = 0; k < Kb.count; ++k) {
-    const long* off = &offsets(blocks_.index(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0) * ndd);
+    const long b = blocks_.index(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0);
+    if (b < 0 || b >= blocks_.size())
+      throw std::logic_error("StiffnessAssembler: a stiffness block starts outside the rank's block grid");
+    const long* off = &offsets(b * ndd);
     for (long rc = 0; rc < ndd; ++rc)
       if (off[rc] >= 0) hv(off[rc]) += K(k, rc / nd_, rc % nd_);
   }

@@ -13,6 +13,7 @@
 #include <NOX_Thyra_MatrixFreeJacobianOperator.hpp>
 #include <Stratimikos_DefaultLinearSolverBuilder.hpp>
 #include <Teuchos_CommHelpers.hpp>
+#include <Thyra_SolveSupportTypes.hpp>
 #include <Thyra_TpetraThyraWrappers.hpp>
 
 #include <algorithm>
@@ -157,6 +158,21 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
     status = s.solver->solve();
   } catch (const char* e) {
     throw std::runtime_error(std::string("impm::NewtonSolver: NOX failed: ") + e);
+  } catch (const Thyra::CatastrophicSolveFailure& e) {
+    // A linear solve that broke down (Belos on a NaN residual, a singular direct solve): this
+    // Newton solve failed, so the step is retried smaller or the run stops with its record; the
+    // NOX set-up is rebuilt at the next call (the guard drops it).
+    const std::string what = e.what();
+    const size_t reason = what.rfind("\n", what.find_last_not_of("\n "));
+    result.converged = false;
+    result.newtonIterations = s.solver->getNumIterations();
+    result.reason = "failed after " + std::to_string(result.newtonIterations) + " Newton iterations: the linear solve broke down (" +
+                    what.substr(reason == std::string::npos ? 0 : reason + 1, what.find_last_not_of("\n ") + 1 -
+                                (reason == std::string::npos ? 0 : reason + 1)) + ")";
+    result.residualEvaluations = s.me->residualEvaluations();
+    result.jacobianEvaluations = s.me->jacobianEvaluations();
+    result.solveSeconds = seconds(start, clock::now());
+    return result;
   }
 
   // Copy the last iterate back, and report.
