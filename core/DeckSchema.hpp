@@ -38,4 +38,10 @@ inline double positive(const Teuchos::ParameterList& pl, const std::string& sect
   return v;
 }
 
+inline int positiveInt(const Teuchos::ParameterList& pl, const std::string& section, const std::string& key) {
+  const int v = pl.get<int>(key);
+  if (v <= 0) throw DeckError("'" + section + "/" + key + "' must be positive, got " + std::to_string(v));
+  return v;
+}
+
 }  // namespace impm::schema

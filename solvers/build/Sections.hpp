@@ -35,16 +35,6 @@ void timeFunctionKeys(Teuchos::ParameterList& pl, const std::string& def, const 
 // The documentation of Particle Placement (Bodies, and the single-body form's Body).
 extern const char* const kParticlePlacementDoc;
 
-inline double positive(const Teuchos::ParameterList& pl, const std::string& section, const std::string& key) {
-  const double v = pl.get<double>(key);
-  if (!(v > 0)) throw DeckError("'" + section + "/" + key + "' must be positive, got " + formatNumber(v));
-  return v;
-}
-inline int positiveInt(const Teuchos::ParameterList& pl, const std::string& section, const std::string& key) {
-  const int v = pl.get<int>(key);
-  if (v <= 0) throw DeckError("'" + section + "/" + key + "' must be positive, got " + std::to_string(v));
-  return v;
-}
 // True when x is on a grid line x0 + k h (to round-off).
 inline bool onGridLine(double x, double x0, double h) {
   const double k = (x - x0) / h;

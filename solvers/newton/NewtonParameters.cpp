@@ -12,6 +12,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/DeckSchema.hpp"
+
 namespace impm {
 
 using Teuchos::ParameterList;
@@ -43,12 +45,7 @@ std::string valueString(const Teuchos::ParameterEntry& e) {
 std::string sci(double v) { return scientific(v); }
 
 // Accept ints and doubles (YAML decks write "1" for 1.0), stored as double.
-RCP<Teuchos::AnyNumberParameterEntryValidator> numberValidator() {
-  Teuchos::AnyNumberParameterEntryValidator::AcceptedTypes accept(false);
-  accept.allowInt(true).allowDouble(true).allowString(false);
-  return rcp(new Teuchos::AnyNumberParameterEntryValidator(Teuchos::AnyNumberParameterEntryValidator::PREFER_DOUBLE,
-                                                           accept));
-}
+using schema::numberValidator;
 
 bool stratimikosHasAmesos2() {
   Stratimikos::DefaultLinearSolverBuilder builder;
