@@ -280,7 +280,7 @@ TEUCHOS_UNIT_TEST(NewtonSolver, LinearAssembledDirectTakesOneNewtonStep) {
   TEST_ASSERT(r.converged);
   TEST_EQUALITY(r.newtonIterations, 1);
   TEST_EQUALITY(r.krylovIterations.size(), 1u);
-  // A true direct solve on one rank; on more, one GMRES iteration with the exact (gathered) inverse.
+  // A true direct solve on one rank; on more, one fixed point step with the exact (gathered) inverse.
   const int np = Tpetra::getDefaultComm()->getSize();
   if (!r.krylovIterations.empty()) TEST_EQUALITY(r.krylovIterations[0], np == 1 ? 0 : 1);
   TEST_ASSERT(r.finalResidualNorm < 1e-10);

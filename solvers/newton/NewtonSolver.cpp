@@ -49,14 +49,22 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
     throw std::invalid_argument("invalid " + implicitSolverKey("Stratimikos") + ": " + e.what());
   }
   if (settings_.direct()) {
-    // Used when the unknowns span several ranks (see gatheredDirect_ in the header).
+    // Used when the unknowns span several ranks (see gatheredDirect_ in the header). Belos's fixed
+    // point iteration x += P^-1 (b - P x) around the exact inverse: the direct solve, then at most
+    // two steps of iterative refinement (more only stagnate at round-off once the relative residual
+    // tolerance, 1e-10, is below what a badly conditioned P allows; Newton takes the step anyway).
+    // Not GMRES: in Trilinos 13.2 a Krylov method's inner products go through Thyra ->
+    // Tpetra::MultiVector::multiply -> KokkosBlas::gemm, which returns early on a rank owning no
+    // unknowns without zeroing its part of the product (kokkos-kernels #1088, Trilinos #9583); that
+    // part holds the Hessenberg entries Belos allocated uninitialised, and the sum over ranks adds
+    // them into every rank's coefficients: NaN or wrong GMRES residuals, depending on what the heap
+    // held, whenever a rank has no free dofs. The fixed point iteration takes norms only.
     auto belos = rcp(new ParameterList("Stratimikos"));
     belos->set("Linear Solver Type", "Belos");
     belos->set("Preconditioner Type", "None");
     ParameterList& b = belos->sublist("Linear Solver Types").sublist("Belos");
-    b.set("Solver Type", "Pseudo Block GMRES");
-    b.sublist("Solver Types").sublist("Pseudo Block GMRES").set("Maximum Iterations", 20);
-    b.sublist("Solver Types").sublist("Pseudo Block GMRES").set("Num Blocks", 20);
+    b.set("Solver Type", "Fixed Point");
+    b.sublist("Solver Types").sublist("Fixed Point").set("Maximum Iterations", 3);
     b.sublist("VerboseObject").set("Verbosity Level", "none");
     Stratimikos::DefaultLinearSolverBuilder builder;
     builder.setParameterList(belos);

@@ -99,7 +99,8 @@ class NewtonSolver {
   Teuchos::RCP<PreconditionerCache> prec_;                  // Ifpack2 or MueLu; null for "None" / direct solves
   // Assembled + Amesos2 on more than one rank: Amesos2 13.2's KLU2 gives wrong solutions once the
   // matrix is distributed (its gathered-matrix path), so P is gathered to rank 0 and factored there by
-  // KLU2 on a serial communicator; that exact inverse preconditions one GMRES iteration.
+  // KLU2 on a serial communicator; that exact inverse preconditions a Belos fixed point iteration
+  // (the direct solve and at most two refinement steps; not GMRES: see NewtonSolver.cpp).
   Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> gatheredLowsFactory_;
   Teuchos::RCP<PreconditionerCache> gatheredDirect_;
 
