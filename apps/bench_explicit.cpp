@@ -17,7 +17,7 @@
 //
 // Sample run:   build/apps/impm_bench_explicit            (spawns itself once per thread count)
 //               build/apps/impm_bench_explicit --case mpm2d --steps 400   (one case: mpm2d, gimp2d,
-//                 mpm3d, gimp3d, neohookean2d, j2-2d)
+//                 mpm3d, gimp3d, neohookean2d, j2-2d, contact2d)
 //               build/apps/impm_bench_explicit --child --kokkos-threads=2 --steps 200
 //               build/apps/impm_bench_explicit --case mpm2d --timers   (adds the time of each
 //                 phase: p2g, grid update, g2p, ...; Teuchos::TimeMonitor, summed over the repeats)
@@ -58,7 +58,7 @@ long residentKiB() {
 
 template <class Shape, int Dim>
 void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-             impm::MaterialModel model = impm::MaterialModel::LinearElastic) {
+             impm::MaterialModel model = impm::MaterialModel::LinearElastic, bool contact = false) {
   using namespace impm;
   const long rss0 = residentKiB();
   StructuredGrid g;
@@ -74,7 +74,19 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
                 Dim == 3 ? PlaneCondition::Solid : linear ? PlaneCondition::PlaneStress : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
   if (mat.anyHistory()) ps.allocateHistory();
-  GridConditions bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist);
+  // The contact case: the same particles as two bodies (the bar's halves), each its own grid
+  // field, meeting frictionlessly at mid-length.
+  ContactSpec fields;
+  if (contact) {
+    fields.bodies = {"left half", "right half"};
+    fields.pairNames = {"halves"};
+    fields.pairFriction = {0.0};
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+    auto id = Kokkos::create_mirror_view(ps.body);
+    for (int p = 0; p < ps.count; ++p) id(p) = x(p, 0) > 0.5 * (body.xMin + body.xMax) ? 1 : 0;
+    Kokkos::deep_copy(ps.body, id);
+  }
+  GridConditions bc({ConstraintSpec::onFace("left", body, "x-", true, false)}, dist, {}, fields);
   const LoadSpec load = LoadSpec::faceTraction("end", body, "x+", 1.0, 0.0);
   LoadSet loads({load}, dist, {-1}, 1);
   ExplicitOptions opt;
@@ -95,9 +107,10 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
   }
   std::sort(seconds.begin(), seconds.end());
   const auto rate = [&](double sec) { return double(ps.count) * steps / sec / 1e6; };
-  std::printf("%-5s %dD %-14s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s "
+  std::printf("%-5s %dD %-14s%s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s "
               "(best of %d; median %.2f, worst %.2f)  view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
-              Shape::name, Dim, Materials::modelName(model).c_str(), (int)ExecutionSpace::concurrency(), ps.count, steps,
+              Shape::name, Dim, Materials::modelName(model).c_str(), contact ? " 2 fields" : "",
+              (int)ExecutionSpace::concurrency(), ps.count, steps,
               seconds.front(), rate(seconds.front()), repeats, rate(seconds[seconds.size() / 2]), rate(seconds.back()),
               ParticleSet::bytesPerParticle(Dim), 1024.0 * (rss1 - rss0) / ps.count);
   if (impm::PhaseTimer::enabled())
@@ -158,7 +171,7 @@ void printHostState(const char* when) {
 }
 
 void printUsage() {
-  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d] [--steps N] "
+  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|contact2d] [--steps N] "
               "[--repeat N] [--timers]\n"
               "  runs each case at 1 and 2 OpenMP threads (one child process per thread count) and prints\n"
               "  M particle-steps/s (best, median and worst of N timed repeats, default 3) and bytes per\n"
@@ -171,7 +184,7 @@ int main(int argc, char** argv) {
   bool child = false, timers = false;
   int steps = 200, repeats = 3;
   std::string only;
-  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d", "gimp3d", "neohookean2d", "j2-2d"};
+  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d", "gimp3d", "neohookean2d", "j2-2d", "contact2d"};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--child")) child = true;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
@@ -192,7 +205,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!only.empty() && std::find(std::begin(cases), std::end(cases), only) == std::end(cases)) {
-    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d)\n",
+    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, contact2d)\n",
                  only.c_str());
     return 2;
   }
@@ -249,5 +262,7 @@ int main(int argc, char** argv) {
   if (wanted("gimp3d")) runCase<impm::UniformGimp, 3>(steps, repeats, comm);
   if (wanted("neohookean2d")) runCase<impm::LinearMpm, 2>(steps, repeats, comm, impm::MaterialModel::NeoHookean);
   if (wanted("j2-2d")) runCase<impm::LinearMpm, 2>(steps, repeats, comm, impm::MaterialModel::J2Plasticity);
+  if (wanted("contact2d"))  // gimp2d's particles as two bodies with multi-field contact
+    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, true);
   return 0;
 }

@@ -10,8 +10,9 @@ namespace impm {
 
 
 GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist,
-                               const std::vector<WallSpec>& walls)
+                               const std::vector<WallSpec>& walls, const ContactSpec& contact)
     : dim_(dist.grid().dim), specs_(specs), walls_(walls) {
+  if (contact.enabled()) contact_ = MultiFieldContact(contact);
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
   std::vector<int> nodes, comps, conds;
@@ -19,6 +20,7 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   for (size_t c = 0; c < specs.size(); ++c) {
     const ConstraintSpec& s = specs[c];
     names_.push_back(s.name);
+    kinds_.push_back("reaction");
     prescribed_.push_back({s.fixes(0), s.fixes(1), g.dim == 3 && s.fixes(2)});
     for (auto [i, j, k] : constraintNodes(s, g)) {
       if (!owned.contains(i, j, k)) continue;
@@ -42,7 +44,7 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   cond_ = toDevice(conds, "condition_of_dof");
   values_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("condition_values", specs.size(), int(PrescribedField::Count) * 3);
   dofForce_ = Kokkos::View<double*, DeviceType>("condition_dof_force", nodes.size());
-  localReaction_.assign(3 * (specs.size() + walls.size()), 0.0);
+  localReaction_.assign(3 * (specs.size() + walls.size() + contact_.pairCount()), 0.0);
 
   // Walls: every owned node on or behind the plane (to round-off), except nodes a constraint moves.
   std::set<int> prescribedNodes;
@@ -53,6 +55,7 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   for (size_t w = 0; w < walls.size(); ++w) {
     const WallSpec& wall = walls[w];
     names_.push_back(wall.name);
+    kinds_.push_back("reaction");
     prescribed_.push_back({true, true, g.dim == 3});
     hp(w, 0) = wall.axis;
     hp(w, 1) = wall.side;
@@ -69,6 +72,11 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
         }
   }
   Kokkos::deep_copy(wallParams_, hp);
+  for (int pair = 0; pair < contact_.pairCount(); ++pair) {
+    names_.push_back(contact.pairNames[pair]);
+    kinds_.push_back("contact");
+    prescribed_.push_back({true, true, g.dim == 3});
+  }
   wallNode_ = toDevice(wallNodes, "wall_nodes");
   wallOf_ = toDevice(wallOf, "wall_of_node");
   wallForce_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_node_force", wallNodes.size(), 3);
@@ -78,7 +86,7 @@ void GridConditions::sumWallReactions() {
   auto force = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), wallForce_);
   auto wall = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), wallOf_);
   const size_t first = 3 * specs_.size();
-  std::fill(localReaction_.begin() + first, localReaction_.end(), 0.0);
+  std::fill(localReaction_.begin() + first, localReaction_.begin() + first + 3 * walls_.size(), 0.0);
   for (size_t k = 0; k < force.extent(0); ++k)
     for (int d = 0; d < 3; ++d) localReaction_[first + 3 * wall(k) + d] += force(k, d);
 }

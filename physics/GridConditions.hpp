@@ -17,6 +17,7 @@
 // that suffices); its reaction is m dv / dt. Nodes with a prescribed component keep their motion.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -24,6 +25,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "physics/Constraints.hpp"
+#include "physics/MultiFieldContact.hpp"
 
 namespace impm {
 
@@ -52,20 +54,22 @@ class GridConditions {
  public:
   GridConditions() = default;
   GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist,
-                 const std::vector<WallSpec>& walls = {});
+                 const std::vector<WallSpec>& walls = {}, const ContactSpec& contact = {});
 
   // Evaluates the conditions' time functions for the step [t, t + dt] (host; cheap). Every hook
   // below uses the step last set.
   void setStep(double t, double dt);
 
-  // Writes `field` into columns col.. (one per dimension) of an owned grid view at every dof.
+  // Writes `field` into columns col.. (one per dimension) of an owned grid view at every dof; with
+  // several velocity fields (contact), into every field's columns, field f's `stride` further on.
   template <class ExecSpace, class GridView>
-  void write(const GridView& owned, int col, PrescribedField field) const {
+  void write(const GridView& owned, int col, PrescribedField field, int stride = 0) const {
     auto node = node_; auto comp = comp_; auto cond = cond_; auto values = values_;
-    const int f = int(field);
+    const int f = int(field), fields = stride > 0 ? fieldCount() : 1;
     Kokkos::parallel_for(
-        "grid_condition_write", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)),
-        KOKKOS_LAMBDA(int k) { owned(node(k), col + comp(k)) = values(cond(k), f * 3 + comp(k)); });
+        "grid_condition_write", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          for (int b = 0; b < fields; ++b) owned(node(k), col + b * stride + comp(k)) = values(cond(k), f * 3 + comp(k));
+        });
   }
 
   // Records each dof's reaction, forceAt(owned node, component): the force the condition applies
@@ -79,30 +83,54 @@ class GridConditions {
     sumReactions();
   }
 
-  // Explicit hook, after the grid update on owned nodes: the new velocity and acceleration
-  // (kin, columns velCol.. and accCol..) take the prescribed ones, and each dof's reaction is the
-  // force that gives its node that acceleration, m a - F_int - F_ext + c p (mass damping c; the
-  // particle sums in `sums`: mass, momentum, F_ext and F_int columns).
+  // Explicit hook, after the grid update on owned nodes: contact between the bodies' fields first;
+  // then the new velocity and acceleration (kin, columns velCol.. and accCol..) take the prescribed
+  // ones, and each dof's reaction is the force that gives its node that acceleration,
+  // m a - F_int - F_ext + c p (mass damping c; the particle sums in `sums`: mass, momentum, F_ext,
+  // F_int and volume-gradient columns), summed over the fields; then the walls. The columns of
+  // field f are f * the strides of useFieldColumns further on.
   template <class ExecSpace, class SumsView, class KinView>
-  void afterExplicitGridUpdate(const SumsView& sums, int massCol, int momCol, int fextCol, int fintCol,
+  void afterExplicitGridUpdate(const SumsView& sums, int massCol, int momCol, int fextCol, int fintCol, int gradCol,
                                const KinView& kin, int velCol, int accCol, double damping) {
-    write<ExecSpace>(kin, velCol, PrescribedField::EndVelocity);
-    write<ExecSpace>(kin, accCol, PrescribedField::Acceleration);
+    if (contact_.active()) {
+      std::vector<double> pairForce;
+      contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, kin, velCol, accCol, kinStride_, dim_, dt_, &pairForce);
+      std::copy(pairForce.begin(), pairForce.end(), localReaction_.end() - pairForce.size());
+    }
+    write<ExecSpace>(kin, velCol, PrescribedField::EndVelocity, kinStride_);
+    write<ExecSpace>(kin, accCol, PrescribedField::Acceleration, kinStride_);
+    const int fields = fieldCount(), ss = sumsStride_, ks = kinStride_;
     recordReaction<ExecSpace>(KOKKOS_LAMBDA(int n, int d) {
-      return sums(n, massCol) * kin(n, accCol + d) - sums(n, fintCol + d) - sums(n, fextCol + d) +
-             damping * sums(n, momCol + d);
+      double force = 0.0;
+      for (int f = 0; f < fields; ++f)
+        force += sums(n, massCol + f * ss) * kin(n, accCol + f * ks + d) - sums(n, fintCol + f * ss + d) -
+                 sums(n, fextCol + f * ss + d) + damping * sums(n, momCol + f * ss + d);
+      return force;
     });
     if (hasWalls()) {
-      wallContact<ExecSpace>(sums, massCol, kin, velCol, accCol, true);
+      wallContact<ExecSpace>(sums, massCol, ss, kin, velCol, accCol, ks, true);
       sumWallReactions();
     }
   }
 
-  // The walls on a grid velocity field alone (the velocity the stress is computed from, with USF
-  // and MUSL): velocity into a wall removed, friction as above; no acceleration, no reaction.
+  // The contact and the walls on a grid velocity field alone (the velocity the stress is computed
+  // from, with USF and MUSL): velocity into a wall or another body removed, friction as above; no
+  // acceleration, no reaction. The fields' columns in `vel` are velStride apart.
   template <class ExecSpace, class SumsView, class VelocityView>
-  void enforceWalls(const SumsView& sums, int massCol, const VelocityView& vel, int velCol) const {
-    if (hasWalls()) wallContact<ExecSpace>(sums, massCol, vel, velCol, -1, false);
+  void enforceContact(const SumsView& sums, int massCol, int gradCol, const VelocityView& vel, int velCol,
+                      int velStride) const {
+    contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, vel, velCol, -1, velStride, dim_, dt_, nullptr);
+    if (hasWalls()) wallContact<ExecSpace>(sums, massCol, sumsStride_, vel, velCol, -1, velStride, false);
+  }
+
+  // Multi-field contact: the number of grid velocity fields (1 without contact), each body's
+  // field, and where the integrator keeps field f: its particle sums sumsStride * f columns and its
+  // kinematics kinStride * f columns after field 0's.
+  int fieldCount() const { return contact_.fieldCount(); }
+  Kokkos::View<const int*, DeviceType> fieldOfBody() const { return contact_.fieldOfBody(); }
+  void useFieldColumns(int sumsStride, int kinStride) {
+    sumsStride_ = sumsStride;
+    kinStride_ = kinStride;
   }
   bool hasWalls() const { return wallNode_.extent(0) > 0 || !walls_.empty(); }
 
@@ -114,7 +142,13 @@ class GridConditions {
   // applied to the grid in the last step (3 per condition); reactions(comm) sums over ranks.
   const std::vector<std::string>& names() const { return names_; }
   const std::vector<std::array<bool, 3>>& prescribed() const { return prescribed_; }
+  // What each condition's force is: "reaction" (constraints, walls) or "contact" (a pair of
+  // bodies: the force of the second on the first).
+  const std::vector<std::string>& forceKinds() const { return kinds_; }
   std::vector<double> reactions(const Teuchos::Comm<int>& comm) const;
+  // Takes over this rank's share of the last step's forces from the conditions this replaces (the
+  // same conditions on a new rank grid: the shares still sum to the forces over the ranks).
+  void keepReactionsOf(const GridConditions& previous) { localReaction_ = previous.localReaction_; }
 
   // Owned local node index and component of each dof on this rank.
   Kokkos::View<int*, DeviceType> nodes() const { return node_; }
@@ -123,51 +157,63 @@ class GridConditions {
  private:
   void sumReactions();
   void sumWallReactions();
-  // The contact of every wall node (see the file comment): kin's velocity (and acceleration, when
-  // accCol >= 0) corrected; with `record`, each node's reaction m dv / dt into wallForce_.
+  // The contact of every wall node (see the file comment), in each field: kin's velocity (and
+  // acceleration, when accCol >= 0) corrected; with `record`, each node's reaction m dv / dt
+  // (summed over the fields) into wallForce_.
   template <class ExecSpace, class SumsView, class KinView>
-  void wallContact(const SumsView& sums, int massCol, const KinView& kin, int velCol, int accCol, bool record) const {
+  void wallContact(const SumsView& sums, int massCol, int sumsStride, const KinView& kin, int velCol, int accCol,
+                   int kinStride, bool record) const {
     auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto force = wallForce_;
-    const int dim = dim_;
+    const int dim = dim_, fields = kinStride > 0 ? fieldCount() : 1;
     const double dt = dt_;
     Kokkos::parallel_for(
         "wall_contact", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
           const int n = node(k), w = wall(k);
           const int axis = (int)params(w, 0);
-          const double side = params(w, 1), mu = params(w, 2), m = sums(n, massCol);
-          double dv[3] = {0.0, 0.0, 0.0};
-          const double vn = side * kin(n, velCol + axis);
-          if (m > 0.0 && vn < 0.0) {
-            dv[axis] = -kin(n, velCol + axis);
-            double vt2 = 0.0;
-            for (int d = 0; d < dim; ++d)
-              if (d != axis) vt2 += kin(n, velCol + d) * kin(n, velCol + d);
-            const double vt = std::sqrt(vt2), limit = -mu * vn;
-            const double removed = vt <= limit ? 1.0 : limit / vt;  // the tangential fraction friction stops
-            for (int d = 0; d < dim; ++d)
-              if (d != axis) dv[d] = -removed * kin(n, velCol + d);
+          const double side = params(w, 1), mu = params(w, 2);
+          double total[3] = {0.0, 0.0, 0.0};
+          for (int f = 0; f < fields; ++f) {
+            const int vel = velCol + f * kinStride;
+            const double m = sums(n, massCol + f * sumsStride);
+            double dv[3] = {0.0, 0.0, 0.0};
+            const double vn = side * kin(n, vel + axis);
+            if (m > 0.0 && vn < 0.0) {
+              dv[axis] = -kin(n, vel + axis);
+              double vt2 = 0.0;
+              for (int d = 0; d < dim; ++d)
+                if (d != axis) vt2 += kin(n, vel + d) * kin(n, vel + d);
+              const double vt = std::sqrt(vt2), limit = -mu * vn;
+              const double removed = vt <= limit ? 1.0 : limit / vt;  // the tangential fraction friction stops
+              for (int d = 0; d < dim; ++d)
+                if (d != axis) dv[d] = -removed * kin(n, vel + d);
+            }
+            for (int d = 0; d < dim; ++d) {
+              kin(n, vel + d) += dv[d];
+              if (accCol >= 0) kin(n, accCol + f * kinStride + d) += dv[d] / dt;
+              total[d] += m * dv[d] / dt;
+            }
           }
-          for (int d = 0; d < dim; ++d) {
-            kin(n, velCol + d) += dv[d];
-            if (accCol >= 0) kin(n, accCol + d) += dv[d] / dt;
-            if (record) force(k, d) = m * dv[d] / dt;
-          }
+          if (record)
+            for (int d = 0; d < dim; ++d) force(k, d) = total[d];
         });
   }
   int dim_ = 2;
   std::vector<ConstraintSpec> specs_;
   std::vector<std::string> names_;
   std::vector<std::array<bool, 3>> prescribed_;
+  std::vector<std::string> kinds_;
   Kokkos::View<int*, DeviceType> node_, comp_, cond_;
   // Per condition: PrescribedField::Count x 3 components, for the step last set.
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> values_;
   Kokkos::View<double*, DeviceType> dofForce_;
-  std::vector<double> localReaction_;  // 3 per condition, then 3 per wall
+  std::vector<double> localReaction_;  // 3 per condition, then 3 per wall, then 3 per contact pair
   // Walls: the specs, each wall node (owned local index) and its wall, per wall (axis, side,
   // friction), and each wall node's last reaction.
   std::vector<WallSpec> walls_;
   Kokkos::View<int*, DeviceType> wallNode_, wallOf_;
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> wallParams_, wallForce_;
+  MultiFieldContact contact_;
+  int sumsStride_ = 0, kinStride_ = 0;
   double dt_ = 0.0;
   std::array<bool, int(PrescribedField::Count)> zero_{};
 };

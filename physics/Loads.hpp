@@ -71,15 +71,16 @@ class LoadSet {
 
   // Every particle-carried external force at time t (point forces and body forces m_p g),
   // scattered into columns col.. of a ghosted grid view.
-  template <class ExecSpace, class Shape, int Dim, class GridView>
+  template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
   void scatterParticleForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                             const GridView& grid, int col, double t) const {
+                             const GridView& grid, int col, double t, const Fields& fields = Fields()) const {
     if (hasParticleForces())
-      particleToGridForces<ExecSpace, Shape, Dim>(g, ix, ps, particleIndices(), particleForces(t), grid, col);
+      particleToGridForces<ExecSpace, Shape, Dim>(g, ix, ps, particleIndices(), particleForces(t), grid, col, fields);
     if (hasBodyForces())
-      particleToGridBodyForces<ExecSpace, Shape, Dim>(g, ix, ps, bodyAccelerations(t), grid, col);
+      particleToGridBodyForces<ExecSpace, Shape, Dim>(g, ix, ps, bodyAccelerations(t), grid, col, fields);
     for (int l : manufacturedLoads_)
-      particleToGridBodyForceField<ExecSpace, Shape, Dim>(g, ix, ps, specs_[l].manufactured, t, specs_[l].bodyIndex, grid, col);
+      particleToGridBodyForceField<ExecSpace, Shape, Dim>(g, ix, ps, specs_[l].manufactured, t, specs_[l].bodyIndex, grid,
+                                                          col, fields);
   }
 
  private:

@@ -4,16 +4,39 @@
 
 #include "core/PhaseTimer.hpp"
 
+#include <stdexcept>
+
 namespace impm {
 
 template <class Shape, int Dim>
 ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
                                         const Materials& material, GridConditions& conditions,
                                         const LoadSet& loads, const ExplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), conditions_(conditions), loads_(loads), opt_(options), fields_(dist, A::Count, K::Count),
+    : ps_(particles), dist_(dist), mat_(material), conditions_(conditions), loads_(loads), opt_(options),
+      fieldCount_(conditions.fieldCount()),
+      sumsStride_(fieldCount_ > 1 ? A::Count + Dim : 0),
+      kinStride_(fieldCount_ > 1 ? K::Count : 0),
+      gradCol_(fieldCount_ > 1 ? A::Count : -1),
+      fields_(dist, fieldCount_ > 1 ? fieldCount_ * sumsStride_ : A::Count, fieldCount_ * K::Count),
       projection_(dist) {
+  if (fieldCount_ > 1 && opt_.projectionIterations > 0)
+    throw std::invalid_argument("the projection correction works on one velocity field; multi-field contact needs "
+                                "'Integrator/Explicit/Projection Iterations' = 0");
+  conditions_.useFieldColumns(sumsStride_, kinStride_);
   // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
+}
+
+// Runs f(columns) with each particle's field in a grid view whose fields are `stride` columns
+// apart: SingleField without contact (the kernels' columns stay compile-time constants), or
+// FieldColumns.
+template <class Shape, int Dim>
+template <class F>
+void ExplicitStepper<Shape, Dim>::withFields(int stride, const F& f) const {
+  if (fieldCount_ > 1)
+    f(FieldColumns(ps_, conditions_.fieldOfBody(), stride));
+  else
+    f(SingleField());
 }
 
 template <class Shape, int Dim>
@@ -27,21 +50,28 @@ void ExplicitStepper<Shape, Dim>::particleToGridMomentum() {
   PhaseTimer phase("p2g");
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
   zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
-  particleToGridMassMomentum<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass, A::MomX);
+  withFields(sumsStride_, [&](const auto& columns) {
+    particleToGridMassMomentum<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass, A::MomX, -1,
+                                                 gradCol_, columns);
+  });
 }
 
 template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::particleToGridForces(double t, bool withMomentum) {
   PhaseTimer phase("p2g");
   auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadWrite);
-  if (withMomentum) {
-    zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
-    particleToGridMomentumAndForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass,
-                                                A::MomX, A::FintX);
-  } else {
-    accumulateInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, A::FintX);
-  }
-  loads_.template scatterParticleForces<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::FextX, t);
+  withFields(sumsStride_, [&](const auto& columns) {
+    if (withMomentum) {
+      zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
+      particleToGridMomentumAndForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass,
+                                                       A::MomX, A::FintX, gradCol_, columns);
+    } else {
+      accumulateInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, A::FintX,
+                                                columns);
+    }
+    loads_.template scatterParticleForces<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::FextX,
+                                                            t, columns);
+  });
 }
 
 template <class Shape, int Dim>
@@ -51,28 +81,33 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
   auto kinv = fields_.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
   const double cutoff = massCutoff_;
   const double damping = withForces ? opt_.massDamping : 0.0;
+  const int fields = fieldCount_, ss = sumsStride_, ks = kinStride_;
   Kokkos::parallel_for(
       "grid_update", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-        const double m = acc(n, A::Mass);
-        if (m <= cutoff) {
-          for (int c = 0; c < K::Count; ++c) kinv(n, c) = 0.0;
-          return;
-        }
-        for (int d = 0; d < Dim; ++d) {
-          const double v = acc(n, A::MomX + d) / m;
-          const double a = withForces ? (acc(n, A::FintX + d) + acc(n, A::FextX + d)) / m - damping * v : 0.0;
-          kinv(n, K::VelX + d) = v + dt * a;
-          kinv(n, K::AccX + d) = a;
+        for (int f = 0; f < fields; ++f) {
+          const int s = f * ss, k = f * ks;
+          const double m = acc(n, s + A::Mass);
+          if (m <= cutoff) {
+            for (int c = 0; c < K::Count; ++c) kinv(n, k + c) = 0.0;
+            continue;
+          }
+          for (int d = 0; d < Dim; ++d) {
+            const double v = acc(n, s + A::MomX + d) / m;
+            const double a = withForces ? (acc(n, s + A::FintX + d) + acc(n, s + A::FextX + d)) / m - damping * v : 0.0;
+            kinv(n, k + K::VelX + d) = v + dt * a;
+            kinv(n, k + K::AccX + d) = a;
+          }
         }
       });
-  // Grid conditions: prescribed velocity and acceleration, and the force that holds them.
+  // Grid conditions: contact between the bodies, prescribed velocity and acceleration, and the
+  // force that holds them; the walls.
   if (withForces) {
-    conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, kinv, K::VelX, K::AccX,
-                                                       damping);
+    conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, gradCol_, kinv, K::VelX,
+                                                       K::AccX, damping);
   } else {  // (update stress first: the velocity at the start of the step)
-    conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity);
-    conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero);
-    conditions_.template enforceWalls<Exec>(acc, A::Mass, kinv, K::VelX);
+    conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity, ks);
+    conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero, ks);
+    conditions_.template enforceContact<Exec>(acc, A::Mass, gradCol_, kinv, K::VelX, ks);
   }
 }
 
@@ -89,10 +124,14 @@ void ExplicitStepper<Shape, Dim>::stressFromGhostedVelocity(double dt, bool from
   PhaseTimer phase("stress update");
   if (fromAccum) {
     auto grid = fields_.accumGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::MomX);
+    withFields(sumsStride_, [&](const auto& columns) {
+      gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::MomX, columns);
+    });
   } else {
     auto grid = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, K::VelX);
+    withFields(kinStride_, [&](const auto& columns) {
+      gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, K::VelX, columns);
+    });
   }
   updateStress<Exec, Dim>(ps_, mat_.law(), dt, true,
                           ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection());
@@ -129,8 +168,10 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
     const bool usl = opt_.scheme == ExplicitScheme::USL;
     // USL: the stress update from grad v^{n+1} runs inside g2p.
-    gridToParticleExplicit<Exec, Shape, Dim>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
-                                        mat_.law(), usl);
+    withFields(kinStride_, [&](const auto& columns) {
+      gridToParticleExplicit<Exec, Shape, Dim>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
+                                               mat_.law(), usl, columns);
+    });
   }
   if (opt_.scheme == ExplicitScheme::MUSL) {
     // Re-map the updated particle momentum, then the stress from that velocity field.
@@ -140,18 +181,24 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
     {
       auto acc = fields_.accumOwned->getLocalViewDevice(Tpetra::Access::ReadWrite);
       const double cutoff = massCutoff_;
+      const int fields = fieldCount_, ss = sumsStride_;
       Kokkos::parallel_for(
           "musl_velocity", Kokkos::RangePolicy<Exec>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-            const double m = acc(n, A::Mass);
-            for (int d = 0; d < Dim; ++d) acc(n, A::MomX + d) = m > cutoff ? acc(n, A::MomX + d) / m : 0.0;
+            for (int f = 0; f < fields; ++f) {
+              const double m = acc(n, f * ss + A::Mass);
+              for (int d = 0; d < Dim; ++d)
+                acc(n, f * ss + A::MomX + d) = m > cutoff ? acc(n, f * ss + A::MomX + d) / m : 0.0;
+            }
           });
-      conditions_.template write<Exec>(acc, A::MomX, PrescribedField::EndVelocity);
-      conditions_.template enforceWalls<Exec>(acc, A::Mass, acc, A::MomX);
+      conditions_.template write<Exec>(acc, A::MomX, PrescribedField::EndVelocity, ss);
+      conditions_.template enforceContact<Exec>(acc, A::Mass, gradCol_, acc, A::MomX, ss);
     }
     fields_.importAccumulated();
     stressFromGhostedVelocity(dt, true);
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    interpolateToParticles<Exec, Shape, Dim>(g, gix, ps_, kinv, K::VelX, ps_.x, dt, true);
+    withFields(kinStride_, [&](const auto& columns) {
+      interpolateToParticles<Exec, Shape, Dim>(g, gix, ps_, kinv, K::VelX, ps_.x, dt, true, columns);
+    });
   }
 }
 

@@ -58,6 +58,8 @@ class ExplicitStepper : public Integrator {
   void particleToGridForces(double t, bool withMomentum);
   void stressFromGhostedVelocity(double dt, bool fromAccum);
   void correctProjection();
+  template <class F>
+  void withFields(int stride, const F& f) const;
 
   ParticleSet& ps_;
   const GridDistribution& dist_;
@@ -65,6 +67,10 @@ class ExplicitStepper : public Integrator {
   GridConditions& conditions_;
   const LoadSet& loads_;
   ExplicitOptions opt_;
+  // Velocity fields (one per body with multi-field contact): field f's particle sums sit
+  // f * sumsStride_ columns after field 0's (with its volume gradient at gradCol_), its kinematics
+  // f * kinStride_ (strides 0, no gradient: one field).
+  int fieldCount_ = 1, sumsStride_ = 0, kinStride_ = 0, gradCol_ = -1;
   GridFields fields_;
   ProjectionCorrection<Shape, Dim> projection_;
   double massCutoff_ = 0.0;

@@ -22,7 +22,7 @@ History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, c
       std::replace(name.begin(), name.end(), ' ', '_');
       for (int d = 0; d < particles_.dim; ++d)
         if (conditions_->prescribed()[c][d]) {
-          reactionColumns_.push_back(name + "_reaction_" + char('x' + d));
+          reactionColumns_.push_back(name + "_" + conditions_->forceKinds()[c] + "_" + char('x' + d));
           reactionIndex_.push_back(int(3 * c + d));
         }
     }

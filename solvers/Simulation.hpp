@@ -95,6 +95,9 @@ class Simulation {
   std::vector<ConstraintSpec> buildConstraints();
   std::vector<WallSpec> buildWalls() const;
   void checkParticlesBesideWalls(const std::vector<WallSpec>& walls) const;
+  ContactSpec buildContact() const;  // ContactSection.cpp
+  void checkContactUsable() const;
+  std::pair<int, int> contactPairBodies(const std::string& key, const std::string& value) const;
   TimeFunction timeFunctionOf(const Teuchos::ParameterList& list, const std::string& key) const;
   void readMotion(const Teuchos::ParameterList& list, const std::string& key, ConstraintSpec& spec) const;
   void checkConditionOverlaps(const std::vector<ConstraintSpec>& specs) const;
@@ -174,6 +177,7 @@ class Simulation {
   double loadBalanceThreshold_ = 1.1;
   std::vector<ConstraintSpec> constraintSpecs_;
   std::vector<WallSpec> wallSpecs_;
+  ContactSpec contactSpec_;
   std::vector<LoadSpec> loadSpecs_;
   std::vector<long long> loadParticleIds_;
   ParticleSet particles_;

@@ -46,7 +46,8 @@ void Simulation::createParticlesAndConditions(const std::vector<ConstraintSpec>&
   checkConditionsReached(cspecs);
   wallSpecs_ = buildWalls();  // ConditionsSection.cpp
   checkParticlesBesideWalls(wallSpecs_);
-  constraints_ = GridConditions(cspecs, *dist_, wallSpecs_);
+  contactSpec_ = buildContact();  // ContactSection.cpp
+  constraints_ = GridConditions(cspecs, *dist_, wallSpecs_, contactSpec_);
   constraintSpecs_ = cspecs;  // rebuilt for a new rank grid (load balance)
 }
 

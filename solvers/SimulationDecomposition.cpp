@@ -26,7 +26,9 @@ void Simulation::adoptRankGrid(const RankGrid& ranks, bool moveParticles) {
   integrator_.reset();             // it refers to the maps, constraints and loads replaced below
   dist_ = std::make_unique<GridDistribution>(grid_, comm_, dist_->ghostWidth(), ranks);
   if (moveParticles) sendParticlesToOwners(particles_, *dist_);
-  constraints_ = GridConditions(constraintSpecs_, *dist_, wallSpecs_);
+  GridConditions conditions(constraintSpecs_, *dist_, wallSpecs_, contactSpec_);
+  conditions.keepReactionsOf(constraints_);  // the last step's, for a history row written after the balance
+  constraints_ = std::move(conditions);
   loads_ = LoadSet(loadSpecs_, *dist_, loadParticleIds_, (int)bodies_.size(), shapeInfo(shape_).quadraticElements);
   loads_.locateParticles(particles_);
   makeIntegrator();

@@ -4,6 +4,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
+#include "core/kernels/FieldColumns.hpp"
 #include "core/kernels/Interpolation.hpp"
 #include "core/kernels/StressUpdate.hpp"
 
@@ -15,22 +16,23 @@ namespace impm {
 //   gradient_p = sum grad S (x) v_i  (for the stress update),  x_p <- x_p + dt sum S v_i.
 // The weights are those of the particle position at the start of the step.
 // With `updateStressNow` (USL), the stress update with dt * gradient_p through `law` runs in
-// the same pass.
-template <class ExecSpace, class Shape, int Dim, class Law, class GridView>
+// the same pass. Each particle reads its own field's columns (`fields`).
+template <class ExecSpace, class Shape, int Dim, class Law, class GridView, class Fields = SingleField>
 void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                             const GridView& kinematics, double dt, double flip, bool movePositions,
-                            const Law& law, bool updateStressNow) {
+                            const Law& law, bool updateStressNow, const Fields& fields = Fields()) {
   using K = KinColumns<Dim>;
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto v = pv.v; auto a = pv.a; auto L = pv.gradient;
   const DomainConvection domain = ConvectsDomain<Shape>::value ? DomainConvection(g) : DomainConvection();
   gatherFromGrid<ExecSpace, Shape, Dim>("g2p", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
     double vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {};
+    const int f = fields.offset(p);
     st.forEachNode(ix, [&](int n, double w, const double* dw) {
       for (int i = 0; i < Dim; ++i) {
-        const double gv = kinematics(n, K::VelX + i);
+        const double gv = kinematics(n, f + K::VelX + i);
         vi[i] += w * gv;
-        ai[i] += w * kinematics(n, K::AccX + i);
+        ai[i] += w * kinematics(n, f + K::AccX + i);
         for (int j = 0; j < Dim; ++j) grad[i][j] += gv * dw[j];
       }
     });
@@ -52,15 +54,16 @@ void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix,
 }
 
 // gradient_p = sum_i grad S_ip (x) w_i for a grid vector field in columns col...
-template <class ExecSpace, class Shape, int Dim, class GridView>
+template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                             const GridView& field, int col) {
+                             const GridView& field, int col, const Fields& fields = Fields()) {
   auto L = FixedParticleViews<Dim>(ps).gradient;
   gatherFromGrid<ExecSpace, Shape, Dim>("grid_gradient", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
     double grad[Dim][Dim] = {};
+    const int c = col + fields.offset(p);
     st.forEachNode(ix, [&](int n, double, const double* dw) {
       for (int i = 0; i < Dim; ++i) {
-        const double wi = field(n, col + i);
+        const double wi = field(n, c + i);
         for (int j = 0; j < Dim; ++j) grad[i][j] += wi * dw[j];
       }
     });
@@ -72,16 +75,17 @@ void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix
 // target_p = (accumulate ? target_p : 0) + scale * sum_i S_ip w_i for a grid vector field in
 // columns col... MUSL moves the particles with the re-mapped velocity this way, and the
 // implicit integrator hands the initial grid acceleration to the particles (target a).
-template <class ExecSpace, class Shape, int Dim, class GridView>
+template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void interpolateToParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                             const GridView& field, int col, const ParticleSet::Vec& target, double scale,
-                            bool accumulate) {
+                            bool accumulate, const Fields& fields = Fields()) {
   auto tgt = FixedParticleViews<Dim>::vec(target);
   gatherFromGrid<ExecSpace, Shape, Dim>(
       "interpolate_to_particles", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
         double wp[Dim] = {};
+        const int c = col + fields.offset(p);
         st.forEachNode(ix, [&](int n, double w, const double*) {
-          for (int d = 0; d < Dim; ++d) wp[d] += w * field(n, col + d);
+          for (int d = 0; d < Dim; ++d) wp[d] += w * field(n, c + d);
         });
         for (int d = 0; d < Dim; ++d) tgt(p, d) = (accumulate ? tgt(p, d) : 0.0) + scale * wp[d];
       });

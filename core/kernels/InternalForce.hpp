@@ -5,6 +5,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/SmallMatrix.hpp"
+#include "core/kernels/FieldColumns.hpp"
 #include "core/kernels/Interpolation.hpp"
 
 namespace impm {
@@ -61,15 +62,16 @@ KOKKOS_INLINE_FUNCTION void loadStress(const StressView& stress, int p, double* 
   for (int c = 0; c < StressLayout<Dim>::count; ++c) s[c] = stress(p, c);
 }
 
-template <class ExecSpace, class Shape, int Dim, class GridView, class StressView>
+template <class ExecSpace, class Shape, int Dim, class GridView, class StressView, class Fields = SingleField>
 void accumulateInternalForce(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                             const StressView& stress, const GridView& grid, int forceCol) {
+                             const StressView& stress, const GridView& grid, int forceCol,
+                             const Fields& fields = Fields()) {
   auto vol = ps.volume;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "internal_force", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double s[StressLayout<Dim>::count];
         loadStress<Dim>(stress, p, s);
-        scatterInternalForce(st, ix, vol(p), s, out, forceCol);
+        scatterInternalForce(st, ix, vol(p), s, out, forceCol + fields.offset(p));
       });
 }
 

@@ -5,6 +5,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
+#include "core/kernels/FieldColumns.hpp"
 #include "core/kernels/Interpolation.hpp"
 #include "core/kernels/InternalForce.hpp"
 
@@ -24,12 +25,23 @@ KOKKOS_INLINE_FUNCTION void scatterMassMomentum(const ParticleStencil<Shape, Dim
   });
 }
 
-// Adds m_p S_ip, m_p v_p S_ip (and m_p a_p S_ip into accCol when >= 0) to `grid`.
-template <class ExecSpace, class Shape, int Dim, class GridView>
+// One particle's volume gradient V_p grad S_ip (the outward normals of multi-field contact).
+template <class Shape, int Dim, class Access>
+KOKKOS_INLINE_FUNCTION void scatterVolumeGradient(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
+                                                  double V, Access& out, int gradCol) {
+  st.forEachNode(ix, [&](int n, double, const double* grad) {
+    for (int d = 0; d < Dim; ++d) out(n, gradCol + d) += V * grad[d];
+  });
+}
+
+// Adds m_p S_ip, m_p v_p S_ip (and m_p a_p S_ip into accCol when >= 0, V_p grad S_ip into gradCol
+// when >= 0) to `grid`, in the columns of each particle's field.
+template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                                const GridView& grid, int massCol, int momCol, int accCol = -1) {
+                                const GridView& grid, int massCol, int momCol, int accCol = -1, int gradCol = -1,
+                                const Fields& fields = Fields()) {
   const FixedParticleViews<Dim> pv(ps);
-  auto m = pv.mass; auto v = pv.v; auto a = pv.a;
+  auto m = pv.mass; auto v = pv.v; auto a = pv.a; auto vol = pv.volume;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double vp[Dim], ap[Dim];
@@ -37,15 +49,18 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
           vp[d] = v(p, d);
           ap[d] = accCol >= 0 ? a(p, d) : 0.0;
         }
-        scatterMassMomentum(st, ix, m(p), vp, ap, out, massCol, momCol, accCol);
+        const int f = fields.offset(p);
+        scatterMassMomentum(st, ix, m(p), vp, ap, out, massCol + f, momCol + f, accCol >= 0 ? accCol + f : -1);
+        if (Fields::multi && gradCol >= 0) scatterVolumeGradient(st, ix, vol(p), out, gradCol + f);
       });
 }
 
 // The explicit stepper's fused transfer: mass, momentum and internal force in one pass over
-// the particles (one stencil evaluation per particle).
-template <class ExecSpace, class Shape, int Dim, class GridView>
+// the particles (one stencil evaluation per particle); the volume gradient too when gradCol >= 0.
+template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                                    const GridView& grid, int massCol, int momCol, int forceCol) {
+                                    const GridView& grid, int massCol, int momCol, int forceCol, int gradCol = -1,
+                                    const Fields& fields = Fields()) {
   const FixedParticleViews<Dim> pv(ps);
   auto m = pv.mass; auto v = pv.v; auto vol = pv.volume; auto stress = pv.stress;
   scatterToGrid<ExecSpace, Shape, Dim>(
@@ -53,8 +68,10 @@ void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeInde
         double vp[Dim], s[StressLayout<Dim>::count];
         for (int d = 0; d < Dim; ++d) vp[d] = v(p, d);
         loadStress<Dim>(stress, p, s);
-        scatterMassMomentum(st, ix, m(p), vp, vp, out, massCol, momCol, -1);
-        scatterInternalForce(st, ix, vol(p), s, out, forceCol);
+        const int f = fields.offset(p);
+        scatterMassMomentum(st, ix, m(p), vp, vp, out, massCol + f, momCol + f, -1);
+        scatterInternalForce(st, ix, vol(p), s, out, forceCol + f);
+        if (Fields::multi && gradCol >= 0) scatterVolumeGradient(st, ix, vol(p), out, gradCol + f);
       });
 }
 
@@ -103,9 +120,10 @@ void particleToGridMassProduct(const StructuredGrid& g, const LocalNodeIndexer& 
 // loaded particles that share a node in whichever order the threads came, and the last bits of
 // the load changed from run to run (at 2 threads a cantilever's two-particle tip load made Newton
 // converge in one run and fail in the next).
-template <class ExecSpace, class Shape, int Dim, class GridView, class IndexView, class ForceView>
+template <class ExecSpace, class Shape, int Dim, class GridView, class IndexView, class ForceView, class Fields = SingleField>
 void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                          const IndexView& index, const ForceView& force, const GridView& grid, int forceCol) {
+                          const IndexView& index, const ForceView& force, const GridView& grid, int forceCol,
+                          const Fields& fields = Fields()) {
   const FixedParticleViews<Dim> pv(ps);
   auto x = pv.x; auto hs = pv.halfSize;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
@@ -116,24 +134,27 @@ void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, c
         for (int k = 0; k < count; ++k) {
           const int p = index(k);
           const ParticleStencil<Shape, Dim> st(g, x, hs, deformation, p);
+          const int col = forceCol + fields.offset(p);
           st.forEachNode(ix, [&](int n, double w, const double*) {
-            for (int d = 0; d < Dim; ++d) grid(n, forceCol + d) += w * force(k, d);
+            for (int d = 0; d < Dim; ++d) grid(n, col + d) += w * force(k, d);
           });
         }
       });
 }
 
 // Body forces m_p g_b S_ip, with g_b the acceleration of the particle's body (gravity).
-template <class ExecSpace, class Shape, int Dim, class GridView, class AccelerationView>
+template <class ExecSpace, class Shape, int Dim, class GridView, class AccelerationView, class Fields = SingleField>
 void particleToGridBodyForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                              const AccelerationView& bodyAcceleration, const GridView& grid, int forceCol) {
+                              const AccelerationView& bodyAcceleration, const GridView& grid, int forceCol,
+                              const Fields& fields = Fields()) {
   auto m = ps.mass; auto body = ps.body;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g_body_forces", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double f[Dim];
         for (int d = 0; d < Dim; ++d) f[d] = m(p) * bodyAcceleration(body(p), d);
+        const int col = forceCol + fields.offset(p);
         st.forEachNode(ix, [&](int n, double w, const double*) {
-          for (int d = 0; d < Dim; ++d) out(n, forceCol + d) += w * f[d];
+          for (int d = 0; d < Dim; ++d) out(n, col + d) += w * f[d];
         });
       });
 }
@@ -141,9 +162,10 @@ void particleToGridBodyForces(const StructuredGrid& g, const LocalNodeIndexer& i
 // Body forces that vary over the body: m_p b(X_p, t) S_ip for the particles of body `bodyIndex`
 // (-1: every body), b a device functor of the reference position X_p and the time with
 // bodyForce(X, t, d) (a manufactured solution's forcing, physics/ManufacturedSolution.hpp).
-template <class ExecSpace, class Shape, int Dim, class Field, class GridView>
+template <class ExecSpace, class Shape, int Dim, class Field, class GridView, class Fields = SingleField>
 void particleToGridBodyForceField(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                                  const Field& field, double t, int bodyIndex, const GridView& grid, int forceCol) {
+                                  const Field& field, double t, int bodyIndex, const GridView& grid, int forceCol,
+                                  const Fields& fields = Fields()) {
   auto m = ps.mass; auto body = ps.body; auto x0 = ps.x0;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g_body_force_field", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
@@ -151,8 +173,9 @@ void particleToGridBodyForceField(const StructuredGrid& g, const LocalNodeIndexe
         double X[3] = {0, 0, 0}, f[Dim];
         for (int d = 0; d < Dim; ++d) X[d] = x0(p, d);
         for (int d = 0; d < Dim; ++d) f[d] = m(p) * field.bodyForce(X, t, d);
+        const int col = forceCol + fields.offset(p);
         st.forEachNode(ix, [&](int n, double w, const double*) {
-          for (int d = 0; d < Dim; ++d) out(n, forceCol + d) += w * f[d];
+          for (int d = 0; d < Dim; ++d) out(n, col + d) += w * f[d];
         });
       });
 }

@@ -22,7 +22,7 @@ using Teuchos::rcp;
 
 namespace {
 
-const std::set<std::string> kCollections = {"Materials", "Bodies", "Constraints", "Walls", "Loads", "Monitors"};
+const std::set<std::string> kCollections = {"Materials", "Bodies", "Constraints", "Walls", "Contact Pairs", "Loads", "Monitors"};
 // Sublists handed unchanged to Trilinos packages, which validate them themselves.
 const std::set<std::string> kPassThrough = {"Implicit Solver"};
 
@@ -112,6 +112,7 @@ RCP<const ParameterList> validParameters() {
       .disableRecursiveValidation();
   v.sublist("Walls", false, "named sublists, each a rigid wall the bodies meet (explicit; see --print-defaults)")
       .disableRecursiveValidation();
+  addContactSchema(v);
   v.sublist("Loads", false, "named sublists, each an external load").disableRecursiveValidation();
   v.sublist("Monitors", false, "named sublists, each a particle quantity recorded in history.csv")
       .disableRecursiveValidation();
@@ -126,6 +127,7 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
   if (collection == "Bodies") return build::bodiesTemplate();
   if (collection == "Constraints") return build::constraintsTemplate();
   if (collection == "Walls") return build::wallsTemplate();
+  if (collection == "Contact Pairs") return build::contactPairsTemplate();
   if (collection == "Loads") return build::loadsTemplate();
   if (collection == "Monitors") return build::monitorsTemplate();
   throw std::logic_error("no collection " + collection);

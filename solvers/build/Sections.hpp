@@ -21,6 +21,7 @@ void addDecompositionSchema(Teuchos::ParameterList& valid);
 void addIntegratorSchema(Teuchos::ParameterList& valid);      // IntegratorSection.cpp
 void addInitialConditionsSchema(Teuchos::ParameterList& valid);
 void addExactSolutionSchema(Teuchos::ParameterList& valid);   // MonitorsSection.cpp
+void addContactSchema(Teuchos::ParameterList& valid);         // ContactSection.cpp (Contact, Contact Pairs)
 
 namespace build {
 
@@ -30,6 +31,7 @@ Teuchos::RCP<const Teuchos::ParameterList> constraintsTemplate();  // Conditions
 Teuchos::RCP<const Teuchos::ParameterList> loadsTemplate();
 Teuchos::RCP<const Teuchos::ParameterList> wallsTemplate();
 Teuchos::RCP<const Teuchos::ParameterList> monitorsTemplate();     // MonitorsSection.cpp
+Teuchos::RCP<const Teuchos::ParameterList> contactPairsTemplate(); // ContactSection.cpp
 // The time-function keys of a load or a prescribed motion (physics/TimeFunction.hpp).
 void timeFunctionKeys(Teuchos::ParameterList& pl, const std::string& def, const std::string& what);
 // The documentation of Particle Placement (Bodies, and the single-body form's Body).

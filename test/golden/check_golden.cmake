@@ -31,6 +31,9 @@ set(CASES
   "implicit_platens_j2_displacement|platens_implicit_mpm_j2.yaml|20|1"
   "wall_bar_gimp|bar_wall_impact_explicit_gimp.yaml|500|10"
   "wall_block_friction_gimp|block_sliding_friction_explicit_gimp.yaml|400|40"
+  "contact_disks_gimp|colliding_disks_contact_explicit_gimp.yaml|1500|50"
+  "contact_incline_usf_gimp|block_incline_contact_explicit_gimp.yaml|400|40|Update Scheme: USL|Update Scheme: USF"
+  "contact_incline_musl_gimp|block_incline_contact_explicit_gimp.yaml|400|40|Update Scheme: USL|Update Scheme: MUSL"
   "explicit_platens_gimp_velocity|platens_implicit_mpm_j2.yaml|400|40|Type: Implicit|Type: Explicit|Time Step: 0.5|Time Step: 2.0e-5|Shape Function: MPM|Shape Function: GIMP|Motion: Displacement|Motion: Velocity|Value Y: -0.01|Value Y: -1.0|Ramp Time: 10.0|Ramp Time: 2.0e-3"
 )
 # Lines of summary.yaml that count solver work (and the run's status).

@@ -1,0 +1,27 @@
+#include "physics/MultiFieldContact.hpp"
+
+#include <stdexcept>
+
+namespace impm {
+
+MultiFieldContact::MultiFieldContact(const ContactSpec& spec)
+    : fields_((int)spec.bodies.size()), pairs_((int)spec.pairFriction.size()),
+      larger_(spec.normals == ContactSpec::Normals::LargerGradient), screen_(spec.massScreen) {
+  if (fields_ > kMaxFields)
+    throw std::invalid_argument("multi-field contact takes at most " + std::to_string(kMaxFields) + " bodies, got " +
+                                std::to_string(fields_));
+  if (pairs_ != fields_ * (fields_ - 1) / 2 || spec.pairNames.size() != spec.pairFriction.size())
+    throw std::logic_error("ContactSpec: one friction and one name per pair of bodies");
+  fieldOfBody_ = Kokkos::View<int*, DeviceType>("contact_field_of_body", fields_);
+  friction_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("contact_friction", fields_, fields_);
+  auto field = Kokkos::create_mirror_view(fieldOfBody_);
+  auto mu = Kokkos::create_mirror_view(friction_);
+  for (int a = 0; a < fields_; ++a) {
+    field(a) = a;
+    for (int b = 0; b < fields_; ++b) mu(a, b) = a == b ? 0.0 : spec.pairFriction[ContactSpec::pairIndex(a, b, fields_)];
+  }
+  Kokkos::deep_copy(fieldOfBody_, field);
+  Kokkos::deep_copy(friction_, mu);
+}
+
+}  // namespace impm
