@@ -12,7 +12,11 @@ namespace impm {
 GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist,
                                const std::vector<WallSpec>& walls, const ContactSpec& contact)
     : dim_(dist.grid().dim), specs_(specs), walls_(walls) {
-  if (contact.enabled()) contact_ = MultiFieldContact(contact);
+  if (contact.enabled()) {
+    const StructuredGrid& grid = dist.grid();
+    const double spacing[3] = {grid.spacing(0), grid.spacing(1), grid.dim == 3 ? grid.spacing(2) : 1.0};
+    contact_ = MultiFieldContact(contact, spacing);
+  }
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
   std::vector<int> nodes, comps, conds;

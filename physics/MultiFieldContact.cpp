@@ -4,9 +4,10 @@
 
 namespace impm {
 
-MultiFieldContact::MultiFieldContact(const ContactSpec& spec)
+MultiFieldContact::MultiFieldContact(const ContactSpec& spec, const double* spacing)
     : fields_((int)spec.bodies.size()), pairs_((int)spec.pairFriction.size()),
-      larger_(spec.normals == ContactSpec::Normals::LargerGradient), screen_(spec.massScreen) {
+      larger_(spec.normals == ContactSpec::Normals::LargerGradient), screen_(spec.massScreen),
+      distance_(spec.contactDistance), spacing_{spacing[0], spacing[1], spacing[2]} {
   if (fields_ > kMaxFields)
     throw std::invalid_argument("multi-field contact takes at most " + std::to_string(kMaxFields) + " bodies, got " +
                                 std::to_string(fields_));

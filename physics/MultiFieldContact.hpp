@@ -15,6 +15,15 @@
 //     (separating bodies are left alone), and a node where a holds less than `massScreen` of the
 //     mass (or more than 1 - massScreen) is skipped: a body's far stencil edge carries too little
 //     mass for a reliable normal (Nairn's pre-screen);
+//   - the approach alone fires up to a cell before the surfaces meet (the nodes a body's stencil
+//     reaches lie beyond its surface). Optionally (contactDistance > 0) contact also needs the
+//     bodies' material to be close along the normal: the centroids of the two sides' mass seen by
+//     the node (sum m_p S_ip x_p / m), x_a and x_rest, must have (x_rest - x_a).n_a below
+//     contactDistance h_n, h_n the cell size along n (after Nairn 2013's position check; surfaces
+//     that touch measure about 0.75 cells with two particles per cell). It keeps contact from
+//     braking a rolling body ahead of its contact point (a disk on an incline rolled 27% short
+//     with the approach alone, 6% with 0.8 cells), but a collision detected later is a harder one
+//     (Sulsky's disks lost 11% of their energy at 16 cells per diameter with 0.8, 7% without);
 //   - the correction removes the normal approach, dv.n_a n_a, and Coulomb friction removes at most
 //     mu dv.n_a of the tangential slip dv_t (all of it when that suffices: stick). No slip (the
 //     pair's law) sets v_a = v_cm always: the pair moves as one field.
@@ -47,6 +56,10 @@ struct ContactSpec {
   std::vector<double> pairFriction;
   Normals normals = Normals::LargerGradient;
   double massScreen = 1e-5;
+  // The separation check: a body is in contact at a node only where the centroid of the others'
+  // mass there lies closer along the normal than this many cell sizes to the centroid of its own
+  // (0: the approach alone decides).
+  double contactDistance = 0.0;
   bool enabled() const { return bodies.size() > 1; }
   // The index of the pair of bodies a != b.
   KOKKOS_INLINE_FUNCTION static int pairIndex(int a, int b, int bodyCount) {
@@ -61,7 +74,8 @@ class MultiFieldContact {
   static constexpr int kMaxFields = 16;
 
   MultiFieldContact() = default;
-  explicit MultiFieldContact(const ContactSpec& spec);
+  // `spacing`: the grid's cell sizes (3; the separation check's unit).
+  MultiFieldContact(const ContactSpec& spec, const double* spacing);
 
   bool active() const { return fields_ > 1; }
   int fieldCount() const { return fields_; }
@@ -70,7 +84,8 @@ class MultiFieldContact {
   Kokkos::View<const int*, DeviceType> fieldOfBody() const { return fieldOfBody_; }
 
   // The exchange at every owned node (see the file comment). Field f of the particle sums `sums`
-  // has its mass in column massCol + f * sumsStride and its volume gradient in gradCol..; its
+  // has its mass in column massCol + f * sumsStride, its volume gradient in gradCol.. and its
+  // mass-weighted position in gradCol + dim..; its
   // velocity (and acceleration, when accCol >= 0) in `kin` at velCol + f * kinStride (accCol..).
   // With pairForce (3 per pair), the force of each pair on its first body is written there.
   template <class ExecSpace, class SumsView, class KinView>
@@ -85,6 +100,8 @@ class MultiFieldContact {
   int pairs_ = 0;
   bool larger_ = true;
   double screen_ = 1e-5;
+  double distance_ = 0.0;
+  double spacing_[3] = {1.0, 1.0, 1.0};
   Kokkos::View<int*, DeviceType> fieldOfBody_;
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> friction_;  // field x field (kNoSlip: no slip)
 };
@@ -98,7 +115,7 @@ struct MultiFieldContact::Exchange {
   KinView kin;
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> friction;
   int massCol, gradCol, sumsStride, velCol, accCol, kinStride, fields, dim;
-  double dt, screen;
+  double dt, screen, distance, h[3];
   bool larger;
   size_type value_count;  // 3 per pair
 
@@ -110,7 +127,7 @@ struct MultiFieldContact::Exchange {
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(int n, double* force) const {
-    double mass[kMaxFields], total = 0.0, p[3] = {0.0, 0.0, 0.0}, gsum[3] = {0.0, 0.0, 0.0};
+    double mass[kMaxFields], total = 0.0, p[3] = {0.0, 0.0, 0.0}, gsum[3] = {0.0, 0.0, 0.0}, xsum[3] = {0.0, 0.0, 0.0};
     int present = 0;
     for (int f = 0; f < fields; ++f) {
       mass[f] = sums(n, massCol + f * sumsStride);
@@ -120,6 +137,7 @@ struct MultiFieldContact::Exchange {
       for (int d = 0; d < dim; ++d) {
         p[d] += mass[f] * kin(n, velCol + f * kinStride + d);
         gsum[d] += sums(n, gradCol + f * sumsStride + d);
+        xsum[d] += sums(n, gradCol + f * sumsStride + dim + d);
       }
     }
     if (present < 2) return;
@@ -133,6 +151,7 @@ struct MultiFieldContact::Exchange {
       double normal[3] = {0.0, 0.0, 0.0};
       if (!contactNormal(n, a, gsum, normal)) continue;
       const double mu = friction(a, other);
+      if (mu >= 0.0 && distance > 0.0 && !close(n, a, mass[a], total - mass[a], xsum, normal)) continue;
       double dv[3] = {0.0, 0.0, 0.0}, dn = 0.0;
       for (int d = 0; d < dim; ++d) {
         dv[d] = kin(n, velCol + a * kinStride + d) - vcm[d];
@@ -157,6 +176,17 @@ struct MultiFieldContact::Exchange {
         force[3 * pair + d] += sign * mass[a] * change[d] / dt;
       }
     }
+  }
+
+  // Whether the others' material lies within `distance` cells of a's along the normal at node n.
+  KOKKOS_INLINE_FUNCTION bool close(int n, int a, double ma, double mrest, const double* xsum, const double* normal) const {
+    double gap = 0.0, hn = 0.0;
+    for (int d = 0; d < dim; ++d) {
+      const double xa = sums(n, gradCol + a * sumsStride + dim + d);
+      gap += ((xsum[d] - xa) / mrest - xa / ma) * normal[d];
+      hn += normal[d] * normal[d] * h[d] * h[d];
+    }
+    return gap < distance * std::sqrt(hn);
   }
 
   // The unit normal out of field a at node n (false where it is undefined).
@@ -187,8 +217,9 @@ void MultiFieldContact::exchange(const SumsView& sums, int massCol, int gradCol,
                                  int velCol, int accCol, int kinStride, int dim, double dt,
                                  std::vector<double>* pairForce) const {
   if (!active()) return;
-  Exchange<SumsView, KinView> op{sums,   kin,    friction_, massCol, gradCol, sumsStride, velCol, accCol, kinStride,
-                                 fields_, dim,   dt,        screen_, larger_, 3 * pairs_};
+  Exchange<SumsView, KinView> op{sums,    kin,       friction_, massCol, gradCol, sumsStride, velCol,
+                                 accCol,  kinStride, fields_,   dim,     dt,      screen_,    distance_,
+                                 {spacing_[0], spacing_[1], spacing_[2]}, larger_, 3 * pairs_};
   std::vector<double> sumsOut(3 * pairs_, 0.0);
   Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> result(sumsOut.data(), sumsOut.size());
   Kokkos::parallel_reduce("multi_field_contact", Kokkos::RangePolicy<ExecSpace>(0, kin.extent(0)), op, result);

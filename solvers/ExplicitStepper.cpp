@@ -14,9 +14,9 @@ ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridD
                                         const LoadSet& loads, const ExplicitOptions& options)
     : ps_(particles), dist_(dist), mat_(material), conditions_(conditions), loads_(loads), opt_(options),
       fieldCount_(conditions.fieldCount()),
-      sumsStride_(fieldCount_ > 1 ? A::Count + Dim : 0),
+      sumsStride_(fieldCount_ > 1 ? A::Count + 2 * Dim : 0),
       kinStride_(fieldCount_ > 1 ? K::Count : 0),
-      gradCol_(fieldCount_ > 1 ? A::Count : -1),
+      geometryCol_(fieldCount_ > 1 ? A::Count : -1),
       fields_(dist, fieldCount_ > 1 ? fieldCount_ * sumsStride_ : A::Count, fieldCount_ * K::Count),
       projection_(dist) {
   if (fieldCount_ > 1 && opt_.projectionIterations > 0)
@@ -52,7 +52,7 @@ void ExplicitStepper<Shape, Dim>::particleToGridMomentum() {
   zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
   withFields(sumsStride_, [&](const auto& columns) {
     particleToGridMassMomentum<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass, A::MomX, -1,
-                                                 gradCol_, columns);
+                                                 geometryCol_, columns);
   });
 }
 
@@ -64,7 +64,7 @@ void ExplicitStepper<Shape, Dim>::particleToGridForces(double t, bool withMoment
     if (withMomentum) {
       zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
       particleToGridMomentumAndForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass,
-                                                       A::MomX, A::FintX, gradCol_, columns);
+                                                       A::MomX, A::FintX, geometryCol_, columns);
     } else {
       accumulateInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, A::FintX,
                                                 columns);
@@ -102,12 +102,12 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
   // Grid conditions: contact between the bodies, prescribed velocity and acceleration, and the
   // force that holds them; the walls.
   if (withForces) {
-    conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, gradCol_, kinv, K::VelX,
+    conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, geometryCol_, kinv, K::VelX,
                                                        K::AccX, damping);
   } else {  // (update stress first: the velocity at the start of the step)
     conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity, ks);
     conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero, ks);
-    conditions_.template enforceContact<Exec>(acc, A::Mass, gradCol_, kinv, K::VelX, ks);
+    conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, kinv, K::VelX, ks);
   }
 }
 
@@ -191,7 +191,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
             }
           });
       conditions_.template write<Exec>(acc, A::MomX, PrescribedField::EndVelocity, ss);
-      conditions_.template enforceContact<Exec>(acc, A::Mass, gradCol_, acc, A::MomX, ss);
+      conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, acc, A::MomX, ss);
     }
     fields_.importAccumulated();
     stressFromGhostedVelocity(dt, true);

@@ -68,9 +68,10 @@ class ExplicitStepper : public Integrator {
   const LoadSet& loads_;
   ExplicitOptions opt_;
   // Velocity fields (one per body with multi-field contact): field f's particle sums sit
-  // f * sumsStride_ columns after field 0's (with its volume gradient at gradCol_), its kinematics
-  // f * kinStride_ (strides 0, no gradient: one field).
-  int fieldCount_ = 1, sumsStride_ = 0, kinStride_ = 0, gradCol_ = -1;
+  // f * sumsStride_ columns after field 0's (with its contact geometry, volume gradient and
+  // mass-weighted position, at geometryCol_), its kinematics f * kinStride_ (strides 0, no
+  // geometry: one field).
+  int fieldCount_ = 1, sumsStride_ = 0, kinStride_ = 0, geometryCol_ = -1;
   GridFields fields_;
   ProjectionCorrection<Shape, Dim> projection_;
   double massCutoff_ = 0.0;

@@ -25,23 +25,27 @@ KOKKOS_INLINE_FUNCTION void scatterMassMomentum(const ParticleStencil<Shape, Dim
   });
 }
 
-// One particle's volume gradient V_p grad S_ip (the outward normals of multi-field contact).
+// One particle's contact geometry (multi-field contact, physics/MultiFieldContact.hpp): its volume
+// gradient V_p grad S_ip into col.. and its mass-weighted position m_p S_ip x_p into col + Dim...
 template <class Shape, int Dim, class Access>
-KOKKOS_INLINE_FUNCTION void scatterVolumeGradient(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
-                                                  double V, Access& out, int gradCol) {
-  st.forEachNode(ix, [&](int n, double, const double* grad) {
-    for (int d = 0; d < Dim; ++d) out(n, gradCol + d) += V * grad[d];
+KOKKOS_INLINE_FUNCTION void scatterContactGeometry(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
+                                                   double V, double m, const double* x, Access& out, int col) {
+  st.forEachNode(ix, [&](int n, double S, const double* grad) {
+    for (int d = 0; d < Dim; ++d) {
+      out(n, col + d) += V * grad[d];
+      out(n, col + Dim + d) += m * S * x[d];
+    }
   });
 }
 
-// Adds m_p S_ip, m_p v_p S_ip (and m_p a_p S_ip into accCol when >= 0, V_p grad S_ip into gradCol
-// when >= 0) to `grid`, in the columns of each particle's field.
+// Adds m_p S_ip, m_p v_p S_ip (and m_p a_p S_ip into accCol when >= 0; with several fields, the
+// contact geometry into geometryCol.. when >= 0) to `grid`, in the columns of each particle's field.
 template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                                const GridView& grid, int massCol, int momCol, int accCol = -1, int gradCol = -1,
+                                const GridView& grid, int massCol, int momCol, int accCol = -1, int geometryCol = -1,
                                 const Fields& fields = Fields()) {
   const FixedParticleViews<Dim> pv(ps);
-  auto m = pv.mass; auto v = pv.v; auto a = pv.a; auto vol = pv.volume;
+  auto m = pv.mass; auto v = pv.v; auto a = pv.a; auto vol = pv.volume; auto x = pv.x;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double vp[Dim], ap[Dim];
@@ -51,18 +55,22 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
         }
         const int f = fields.offset(p);
         scatterMassMomentum(st, ix, m(p), vp, ap, out, massCol + f, momCol + f, accCol >= 0 ? accCol + f : -1);
-        if (Fields::multi && gradCol >= 0) scatterVolumeGradient(st, ix, vol(p), out, gradCol + f);
+        if (Fields::multi && geometryCol >= 0) {
+          double xp[Dim];
+          for (int d = 0; d < Dim; ++d) xp[d] = x(p, d);
+          scatterContactGeometry(st, ix, vol(p), m(p), xp, out, geometryCol + f);
+        }
       });
 }
 
 // The explicit stepper's fused transfer: mass, momentum and internal force in one pass over
-// the particles (one stencil evaluation per particle); the volume gradient too when gradCol >= 0.
+// the particles (one stencil evaluation per particle); the contact geometry too when geometryCol >= 0.
 template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                                    const GridView& grid, int massCol, int momCol, int forceCol, int gradCol = -1,
+                                    const GridView& grid, int massCol, int momCol, int forceCol, int geometryCol = -1,
                                     const Fields& fields = Fields()) {
   const FixedParticleViews<Dim> pv(ps);
-  auto m = pv.mass; auto v = pv.v; auto vol = pv.volume; auto stress = pv.stress;
+  auto m = pv.mass; auto v = pv.v; auto vol = pv.volume; auto stress = pv.stress; auto x = pv.x;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double vp[Dim], s[StressLayout<Dim>::count];
@@ -71,7 +79,11 @@ void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeInde
         const int f = fields.offset(p);
         scatterMassMomentum(st, ix, m(p), vp, vp, out, massCol + f, momCol + f, -1);
         scatterInternalForce(st, ix, vol(p), s, out, forceCol + f);
-        if (Fields::multi && gradCol >= 0) scatterVolumeGradient(st, ix, vol(p), out, gradCol + f);
+        if (Fields::multi && geometryCol >= 0) {
+          double xp[Dim];
+          for (int d = 0; d < Dim; ++d) xp[d] = x(p, d);
+          scatterContactGeometry(st, ix, vol(p), m(p), xp, out, geometryCol + f);
+        }
       });
 }
 

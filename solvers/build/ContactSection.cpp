@@ -41,6 +41,12 @@ void addContactSchema(ParameterList& valid) {
          "Average: from the difference of the two sides' volume gradients, which tilts the normal at a body's "
          "corners (a block sliding on a slab then plows: 6% short of its frictionless travel, against 0.04% with "
          "Larger Gradient). Both give the two bodies opposite normals (momentum is conserved)");
+  number(c, "Contact Distance", 0.0,
+         "0: bodies are in contact at a node when they approach there (Bardenhagen), which may be up to a cell before "
+         "their surfaces meet; > 0: also only where the centroids of their mass seen by the node lie closer along the "
+         "normal than this many cell sizes (0.8 suits 2 particles per cell: touching surfaces are about 0.75 cells "
+         "apart in this measure). The check keeps contact from braking a rolling body; a collision it detects later "
+         "costs more energy");
   number(c, "Mass Screen", 1.0e-5,
          "a node where a body holds less than this fraction of the mass (or more than 1 minus it) is not a contact "
          "node for it: the far edge of a stencil carries too little mass for a reliable normal");
@@ -99,6 +105,9 @@ ContactSpec Simulation::buildContact() const {
   spec.massScreen = c.get<double>("Mass Screen");
   if (!(spec.massScreen >= 0 && spec.massScreen < 0.5))
     throw DeckError("'Contact/Mass Screen' must lie in [0, 0.5), got " + formatNumber(spec.massScreen));
+  spec.contactDistance = c.get<double>("Contact Distance");
+  if (!(spec.contactDistance >= 0) || !std::isfinite(spec.contactDistance))
+    throw DeckError("'Contact/Contact Distance' must be a finite number of cells >= 0, got " + formatNumber(spec.contactDistance));
   spec.normals = c.get<std::string>("Normals") == "Average" ? ContactSpec::Normals::Average : ContactSpec::Normals::LargerGradient;
   const int n = (int)bodies_.size();
   for (const BodySpec& b : bodies_) spec.bodies.push_back(b.name);
