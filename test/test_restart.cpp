@@ -145,6 +145,19 @@ TEUCHOS_UNIT_TEST(Restart, ExplicitCollidingDisks) {
   checkRestart(deck, "disks", 120, 70, out, success);
 }
 
+// Multi-field contact: the disks (each its own grid field, frictional contact) start 1 cm apart,
+// collide before the checkpoint and go on pushing after it; the contact force columns are part of
+// the history compared bit for bit. The fields come from each particle's body, which the
+// checkpoint carries.
+TEUCHOS_UNIT_TEST(Restart, MultiFieldContactDisks) {
+  ParameterList deck = deckOf("colliding_disks_contact_explicit_gimp.yaml");
+  deck.sublist("Bodies").sublist("lower disk").set("Center X", 0.355).set("Center Y", 0.355);
+  deck.sublist("Bodies").sublist("upper disk").set("Center X", 0.645).set("Center Y", 0.645);
+  deck.sublist("Contact").set("Friction", 0.3);
+  deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 5).set("Plot", false);
+  checkRestart(deck, "contact_disks", 160, 90, out, success);
+}
+
 // Load balance moves the cuts between ranks before the checkpoint; a restart at the same rank
 // count takes the cuts back from it (bit for bit), another rank count starts from its own.
 TEUCHOS_UNIT_TEST(Restart, LoadBalancedDisks) {
