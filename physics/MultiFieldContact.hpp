@@ -127,31 +127,32 @@ struct MultiFieldContact::Exchange {
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(int n, double* force) const {
-    double mass[kMaxFields], total = 0.0, p[3] = {0.0, 0.0, 0.0}, gsum[3] = {0.0, 0.0, 0.0}, xsum[3] = {0.0, 0.0, 0.0};
+    double mass[kMaxFields], total = 0.0, p[3] = {0.0, 0.0, 0.0};
     int present = 0;
     for (int f = 0; f < fields; ++f) {
       mass[f] = sums(n, massCol + f * sumsStride);
       if (!(mass[f] > 0.0)) continue;
       ++present;
       total += mass[f];
-      for (int d = 0; d < dim; ++d) {
-        p[d] += mass[f] * kin(n, velCol + f * kinStride + d);
-        gsum[d] += sums(n, gradCol + f * sumsStride + d);
-        xsum[d] += sums(n, gradCol + f * sumsStride + dim + d);
-      }
+      for (int d = 0; d < dim; ++d) p[d] += mass[f] * kin(n, velCol + f * kinStride + d);
     }
     if (present < 2) return;
+    // The mass screen, one comparison per field (the same for both sides of a contact): a field
+    // below it takes no part, and a node with fewer than two fields above it is no contact node.
+    int screened = 0;
+    for (int f = 0; f < fields; ++f) screened += mass[f] > 0.0 && !(mass[f] < screen * total) ? 1 : 0;
+    if (screened < 2) return;
     double vcm[3] = {0.0, 0.0, 0.0};
     for (int d = 0; d < dim; ++d) vcm[d] = p[d] / total;
     for (int a = 0; a < fields; ++a) {
-      if (!(mass[a] > 0.0) || mass[a] < screen * total || mass[a] > (1.0 - screen) * total) continue;
+      if (!(mass[a] > 0.0) || mass[a] < screen * total) continue;
       int other = -1;  // the heaviest other body: its pair's law
       for (int f = 0; f < fields; ++f)
         if (f != a && mass[f] > 0.0 && (other < 0 || mass[f] > mass[other])) other = f;
       double normal[3] = {0.0, 0.0, 0.0};
-      if (!contactNormal(n, a, gsum, normal)) continue;
+      if (!contactNormal(n, a, other, normal)) continue;
       const double mu = friction(a, other);
-      if (mu >= 0.0 && distance > 0.0 && !close(n, a, mass[a], total - mass[a], xsum, normal)) continue;
+      if (mu >= 0.0 && distance > 0.0 && !close(n, a, mass, normal)) continue;
       double dv[3] = {0.0, 0.0, 0.0}, dn = 0.0;
       for (int d = 0; d < dim; ++d) {
         dv[d] = kin(n, velCol + a * kinStride + d) - vcm[d];
@@ -178,31 +179,46 @@ struct MultiFieldContact::Exchange {
     }
   }
 
+  // The sum over the fields other than a of columns col.. of `sums` (with two fields, exactly the
+  // other field's values, so that both sides of a contact see the same numbers).
+  KOKKOS_INLINE_FUNCTION void othersSum(int n, int a, int col, double* out) const {
+    for (int d = 0; d < dim; ++d) out[d] = 0.0;
+    for (int f = 0; f < fields; ++f)
+      if (f != a)
+        for (int d = 0; d < dim; ++d) out[d] += sums(n, col + f * sumsStride + d);
+  }
+
   // Whether the others' material lies within `distance` cells of a's along the normal at node n.
-  KOKKOS_INLINE_FUNCTION bool close(int n, int a, double ma, double mrest, const double* xsum, const double* normal) const {
-    double gap = 0.0, hn = 0.0;
+  KOKKOS_INLINE_FUNCTION bool close(int n, int a, const double* mass, const double* normal) const {
+    double rest[3], mrest = 0.0, gap = 0.0, hn = 0.0;
+    othersSum(n, a, gradCol + dim, rest);
+    for (int f = 0; f < fields; ++f)
+      if (f != a && mass[f] > 0.0) mrest += mass[f];
     for (int d = 0; d < dim; ++d) {
       const double xa = sums(n, gradCol + a * sumsStride + dim + d);
-      gap += ((xsum[d] - xa) / mrest - xa / ma) * normal[d];
+      gap += (rest[d] / mrest - xa / mass[a]) * normal[d];
       hn += normal[d] * normal[d] * h[d] * h[d];
     }
     return gap < distance * std::sqrt(hn);
   }
 
   // The unit normal out of field a at node n (false where it is undefined).
-  KOKKOS_INLINE_FUNCTION bool contactNormal(int n, int a, const double* gsum, double* normal) const {
-    double ga[3] = {0.0, 0.0, 0.0}, rest[3] = {0.0, 0.0, 0.0}, la = 0.0, lr = 0.0;
+  KOKKOS_INLINE_FUNCTION bool contactNormal(int n, int a, int other, double* normal) const {
+    double ga[3] = {0.0, 0.0, 0.0}, rest[3], la = 0.0, lr = 0.0;
+    othersSum(n, a, gradCol, rest);
     for (int d = 0; d < dim; ++d) {
       ga[d] = sums(n, gradCol + a * sumsStride + d);
-      rest[d] = gsum[d] - ga[d];
       la += ga[d] * ga[d];
       lr += rest[d] * rest[d];
     }
+    // Equal gradients (mirror-image bodies) go to the lower field on both sides, so that the two
+    // normals stay opposite.
+    const bool ownLarger = la > lr || (la == lr && a < other);
     double len = 0.0;
     for (int d = 0; d < dim; ++d) {
       // (sum_p V_p grad S_ip points out of a body at a node beside it.) Average: g_a - g_rest;
       // Larger Gradient: g_a or -g_rest, whichever is longer.
-      normal[d] = !larger ? ga[d] - rest[d] : (la >= lr ? ga[d] : -rest[d]);
+      normal[d] = !larger ? ga[d] - rest[d] : (ownLarger ? ga[d] : -rest[d]);
       len += normal[d] * normal[d];
     }
     len = std::sqrt(len);

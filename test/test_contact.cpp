@@ -8,12 +8,14 @@
 //   mu = 0.7 > tan 30 or a No Slip pair; the same on a rough rigid wall instead of the slab;
 // - a disk on the incline (apps/disk_incline_contact_explicit_gimp.yaml), rolling (mu = 0.5) and
 //   slipping (mu = 0.1): its centroid travel and spin against the rigid-body closed forms;
+// - two cubes colliding in 3D: momentum, a push along the normal only, the rebound;
 // - the deck's refusals, each one message naming the key.
 // np 1 and 2: the same figures at any rank count (test_partition_independence compares them to 1e-10).
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -300,6 +302,69 @@ TEUCHOS_UNIT_TEST(Contact, DiskRollsOrSlipsDownIncline) {
       TEST_COMPARE(std::abs(end[1]), <, 0.6 * std::abs(rollingSpin));
     }
   }
+}
+
+// 3D: two elastic cubes (40 mm, 4 cells a side, c = 10 m/s) approach along x at +-0.5 m/s, meet
+// frictionlessly and bounce apart. The contact force on the first cube only ever pushes it back
+// (F_x <= 0), it has no y or z part (the faces meet square on: 5e-15 of the push; 0.1 of it before
+// equal gradients were given to one side on both), and each cube leaves with its velocity reversed,
+// at 0.354 m/s (half the kinetic energy is lost at this resolution, against 7% with one field,
+// where the cubes stick and spring apart). Momentum: 9e-11 of M v0 with the Larger Gradient
+// normals (3e-14 with Average; the source of the difference is not found), asserted below 1e-9.
+TEUCHOS_UNIT_TEST(Contact, CubesCollideAndSeparateIn3d) {
+  ParameterList d("impm");
+  d.sublist("Problem").set("Name", "cubes").set("Output Directory", "test_output/contact_cubes");
+  d.sublist("Grid").set("Dimension", 3).set("Cells X", 16).set("Cells Y", 6).set("Cells Z", 6);
+  d.sublist("Grid").set("Cell Size X", 0.01).set("Cell Size Y", 0.01).set("Cell Size Z", 0.01);
+  d.sublist("Materials").sublist("soft").set("Young Modulus", 1.0e5).set("Poisson Ratio", 0.3).set("Density", 1000.0);
+  auto cube = [&](const std::string& name, double x0, double v) {
+    ParameterList& b = d.sublist("Bodies").sublist(name);
+    b.set("Material", "soft").set("X Min", x0).set("X Max", x0 + 0.04).set("Y Min", 0.01).set("Y Max", 0.05);
+    b.set("Z Min", 0.01).set("Z Max", 0.05).set("Velocity X", v);
+    b.set("Particles Per Cell X", 2).set("Particles Per Cell Y", 2).set("Particles Per Cell Z", 2);
+  };
+  cube("left", 0.03, 0.5);
+  cube("right", 0.09, -0.5);
+  d.sublist("Method").set("Shape Function", "GIMP");
+  d.sublist("Integrator").set("Type", "Explicit").set("Time Step", 2.0e-4).set("Number of Steps", 300);
+  d.sublist("Contact").set("Type", "Multi Field");
+  d.sublist("Output").set("History Interval", 5).set("VTK Interval", 0).set("Plot", false).set("Progress", false);
+  d.sublist("Output").set("Energy And Momentum", true);
+  impm::validateDeck(d);
+  impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/contact_cubes");
+  std::ostringstream log;
+  const impm::RunResult r = sim.run(log);
+  TEST_EQUALITY_CONST(r.status, "completed");
+  const std::vector<double>& fx = r.reactions.at("left_right_contact_x");
+  const std::vector<double>& fy = r.reactions.at("left_right_contact_y");
+  const std::vector<double>& fz = r.reactions.at("left_right_contact_z");
+  double push = 0, pull = 0, side = 0, momentum = 0;
+  for (size_t i = 0; i < r.time.size(); ++i) {
+    push = std::min(push, fx[i]);
+    pull = std::max(pull, fx[i]);
+    side = std::max({side, std::abs(fy[i]), std::abs(fz[i])});
+    momentum = std::max({momentum, std::abs(r.momentumX[i]), std::abs(r.momentumY[i]), std::abs(r.momentumZ[i])});
+  }
+  const double M = 1000.0 * 0.04 * 0.04 * 0.04, v0 = 0.5;
+  const auto& pm = sim.particles();
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pm.v);
+  auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pm.mass);
+  auto body = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pm.body);
+  double local[4] = {0, 0, 0, 0}, sums[4];
+  for (int p = 0; p < pm.count; ++p) {
+    local[2 * body(p)] += m(p);
+    local[2 * body(p) + 1] += m(p) * v(p, 0);
+  }
+  Teuchos::reduceAll(*Tpetra::getDefaultComm(), Teuchos::REDUCE_SUM, 4, local, sums);
+  const double left = sums[1] / sums[0], right = sums[3] / sums[2];
+  out << "peak push " << -push << " N, largest pull " << pull << " N, largest side force " << side << " N, momentum "
+      << momentum << " (M v0 = " << M * v0 << "); the cubes leave at " << left << " and " << right << " m/s\n";
+  TEST_COMPARE(-push, >, 1.0);
+  TEST_COMPARE(pull, <=, 1e-9 * -push);
+  TEST_COMPARE(side, <, 1e-9 * -push);
+  TEST_COMPARE(momentum, <, 1e-9 * M * v0);
+  TEST_COMPARE(left, <, -0.3);
+  TEST_COMPARE(right, >, 0.3);
 }
 
 // Each refusal: one DeckError naming the key.
