@@ -13,6 +13,8 @@ MultiFieldContact::MultiFieldContact(const ContactSpec& spec, const double* spac
                                 std::to_string(fields_));
   if (pairs_ != fields_ * (fields_ - 1) / 2 || spec.pairNames.size() != spec.pairFriction.size())
     throw std::logic_error("ContactSpec: one friction and one name per pair of bodies");
+  pairSign_ = spec.pairSign.empty() ? std::vector<double>(pairs_, 1.0) : spec.pairSign;
+  if ((int)pairSign_.size() != pairs_) throw std::logic_error("ContactSpec: one sign per pair of bodies");
   fieldOfBody_ = Kokkos::View<int*, DeviceType>("contact_field_of_body", fields_);
   friction_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("contact_friction", fields_, fields_);
   auto field = Kokkos::create_mirror_view(fieldOfBody_);

@@ -30,8 +30,8 @@
 // With three or more bodies at a node, a meets the others as one body (NairnMPM's "virtual
 // other"), with the law of the pair (a, the heaviest of the others).
 //
-// The change m_a dv_a / dt is the contact force on a; the force of each pair of bodies on its first
-// body (summed over nodes and ranks) is reported per pair. The explicit step applies the exchange
+// The change m_a dv_a / dt is the contact force on a; the force of each pair of bodies on the body
+// named first (summed over nodes and ranks) is reported per pair. The explicit step applies the exchange
 // after the grid update (to the new velocity and the acceleration, so FLIP particles receive the
 // impulse), and to the velocity the stress is computed from (USF's start, MUSL's re-mapped one).
 #pragma once
@@ -54,6 +54,9 @@ struct ContactSpec {
   // its name (history columns <name>_contact_<x|y|z>) and its friction coefficient (or kNoSlip).
   std::vector<std::string> pairNames;
   std::vector<double> pairFriction;
+  // Per pair, +1 when its force is reported on its body a (the lower index), -1 on b (the pair
+  // was named with b first); empty: all +1.
+  std::vector<double> pairSign;
   Normals normals = Normals::LargerGradient;
   double massScreen = 1e-5;
   // The separation check: a body is in contact at a node only where the centroid of the others'
@@ -102,6 +105,7 @@ class MultiFieldContact {
   double screen_ = 1e-5;
   double distance_ = 0.0;
   double spacing_[3] = {1.0, 1.0, 1.0};
+  std::vector<double> pairSign_;
   Kokkos::View<int*, DeviceType> fieldOfBody_;
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> friction_;  // field x field (kNoSlip: no slip)
 };
@@ -239,7 +243,11 @@ void MultiFieldContact::exchange(const SumsView& sums, int massCol, int gradCol,
   std::vector<double> sumsOut(3 * pairs_, 0.0);
   Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> result(sumsOut.data(), sumsOut.size());
   Kokkos::parallel_reduce("multi_field_contact", Kokkos::RangePolicy<ExecSpace>(0, kin.extent(0)), op, result);
-  if (pairForce) *pairForce = sumsOut;
+  if (pairForce) {
+    for (int k = 0; k < pairs_; ++k)
+      for (int d = 0; d < 3; ++d) sumsOut[3 * k + d] *= pairSign_[k];
+    *pairForce = sumsOut;
+  }
 }
 
 }  // namespace impm

@@ -175,18 +175,20 @@ TEUCHOS_UNIT_TEST(Contact, BlockSlidesDownInclineOnSlab) {
 // of the weight, and the block ratchets down the slope in those dips (4% of the frictionless travel
 // in 0.25 s with mu = 0.7: what a ringing block does). Loaded so, the block moves below 0.1% of
 // the frictionless travel (measured 0.02%, its elastic deformation), and the slab carries its
-// weight: the mean force of the block on it over the hold is M g (sin 30, -cos 30) within 2%
-// (measured 0.1%; friction holds the whole downhill pull).
+// weight: the mean force of the slab on the block over the hold is M g (-sin 30, cos 30) within 2%
+// (measured 0.1%; friction holds the whole downhill pull). The mu = 0.7 pair names the block
+// first, so its force column is the one on the block.
 TEUCHOS_UNIT_TEST(Contact, BlockHoldsOnInclineWhenFrictionSuffices) {
   const double frictionless = slidingTravel(0.0), M = 0.4, g = 10.0, theta = M_PI / 6;
   auto ramped = [](ParameterList& d) {
     d.sublist("Loads").sublist("gravity").set("Time Function", "Ramp").set("Ramp Time", 0.05);
   };
   impm::RunResult r;
+  // (The rough pair named block first: its force is the one on the block, the slab's reversed.)
   const double rough = inclineTravel(
       [&](ParameterList& d) {
         ramped(d);
-        d.sublist("Contact").set("Friction", 0.7);
+        d.sublist("Contact Pairs").sublist("rough").set("Bodies", "block, slab").set("Friction", 0.7);
       },
       "rough", &r);
   const double bonded = inclineTravel(
@@ -198,20 +200,20 @@ TEUCHOS_UNIT_TEST(Contact, BlockHoldsOnInclineWhenFrictionSuffices) {
   out << "travel with mu = 0.7: " << rough << " m; No Slip: " << bonded << " m; frictionless " << frictionless << " m\n";
   TEST_COMPARE(std::abs(rough), <, 1e-3 * frictionless);
   TEST_COMPARE(std::abs(bonded), <, 1e-3 * frictionless);
-  const std::vector<double>& fx = r.reactions.at("slab_block_contact_x");
-  const std::vector<double>& fy = r.reactions.at("slab_block_contact_y");
+  const std::vector<double>& fx = r.reactions.at("rough_contact_x");
+  const std::vector<double>& fy = r.reactions.at("rough_contact_y");
   double sx = 0, sy = 0;
   int n = 0;
   for (size_t i = 0; i < r.time.size(); ++i)
-    if (r.time[i] >= 0.1) {
+    if (r.time[i] >= 0.1) {  // (the force of the slab on the block: minus the block's on the slab)
       sx += fx[i];
       sy += fy[i];
       ++n;
     }
-  out << "mean force of the block on the slab (" << sx / n << ", " << sy / n << ") N; M g (sin 30, -cos 30) = ("
-      << M * g * std::sin(theta) << ", " << -M * g * std::cos(theta) << ") N\n";
-  TEST_COMPARE(std::abs(sx / n / (M * g * std::sin(theta)) - 1), <, 0.02);
-  TEST_COMPARE(std::abs(-sy / n / (M * g * std::cos(theta)) - 1), <, 0.02);
+  out << "mean force of the slab on the block (" << sx / n << ", " << sy / n << ") N; M g (-sin 30, cos 30) = ("
+      << -M * g * std::sin(theta) << ", " << M * g * std::cos(theta) << ") N\n";
+  TEST_COMPARE(std::abs(-sx / n / (M * g * std::sin(theta)) - 1), <, 0.02);
+  TEST_COMPARE(std::abs(sy / n / (M * g * std::cos(theta)) - 1), <, 0.02);
 }
 
 // The block on a rough rigid floor (Walls) instead of the slab, mu = 0.3: the same travel within 3%.

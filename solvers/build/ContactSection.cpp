@@ -33,7 +33,8 @@ void addContactSchema(ParameterList& valid) {
          "Single Field: the bodies share one grid velocity field, so bodies that touch stick together; Multi Field: "
          "each body has its own velocity field and bodies meet by the contact law (Bardenhagen et al. 2001), "
          "explicit integrator only. The force of each pair of bodies on the first is in history.csv "
-         "(<pair>_contact_<x|y|z>) and summary.yaml");
+         "(<pair>_contact_<x|y|z>; a pair not in Contact Pairs: <first>_<second> in the deck's body order) and "
+         "summary.yaml");
   choice(c, "Law", "Coulomb", {"Coulomb", "No Slip"}, std::string("the law of every pair not in Contact Pairs. ") + kLawDoc);
   number(c, "Friction", 0.0, std::string(kFrictionDoc) + " of every pair not in Contact Pairs");
   choice(c, "Normals", "Larger Gradient", {"Larger Gradient", "Average"},
@@ -57,8 +58,8 @@ void addContactSchema(ParameterList& valid) {
 
 RCP<const ParameterList> build::contactPairsTemplate() {
   auto pl = rcp(new ParameterList("Contact Pairs"));
-  pl->set("Bodies", "", "the two bodies, 'first, second' (names in Bodies); the pair's force in history.csv is the "
-                        "force of the second on the first");
+  pl->set("Bodies", "", "the two bodies, 'first, second' (names in Bodies, in either order); the pair's force in "
+                        "history.csv is the force of the second on the first");
   choice(*pl, "Law", "Coulomb", {"Coulomb", "No Slip"}, kLawDoc);
   number(*pl, "Friction", 0.0, kFrictionDoc);
   return pl;
@@ -114,6 +115,7 @@ ContactSpec Simulation::buildContact() const {
   const double law = frictionOf(c, "Contact");
   std::vector<std::string> entry(n * (n - 1) / 2);  // the Contact Pairs entry of each pair
   spec.pairFriction.assign(n * (n - 1) / 2, law);
+  spec.pairSign.assign(n * (n - 1) / 2, 1.0);
   spec.pairNames.resize(n * (n - 1) / 2);
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) spec.pairNames[ContactSpec::pairIndex(a, b, n)] = bodies_[a].name + "_" + bodies_[b].name;
@@ -124,10 +126,8 @@ ContactSpec Simulation::buildContact() const {
     const int k = ContactSpec::pairIndex(a, b, n);
     if (!entry[k].empty())
       throw DeckError("'" + key + "' and 'Contact Pairs/" + entry[k] + "' name the same pair of bodies");
-    if (a > b)
-      throw DeckError("'" + key + "/Bodies': list the bodies in the deck's order ('" + bodies_[b].name + ", " +
-                      bodies_[a].name + "'): the pair's force is the one on the body that comes first");
     entry[k] = name;
+    spec.pairSign[k] = a < b ? 1.0 : -1.0;  // the force on the body named first
     spec.pairFriction[k] = frictionOf(p, key);
     spec.pairNames[k] = name;
   }
