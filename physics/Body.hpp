@@ -4,6 +4,7 @@
 // a global id that does not depend on the MPI decomposition (the order of the whole fill).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
 #include "physics/BodyShapes.hpp"
+#include "physics/TimeFunction.hpp"
 #include "physics/LatticePoints.hpp"
 #include "physics/Materials.hpp"
 
@@ -47,6 +49,12 @@ struct BodySpec {
   std::string particlesFile;               // Particles File bodies
   int material = 0;                        // index into the material table
   double velocityX = 0, velocityY = 0, velocityZ = 0;  // initial velocity
+  // A rigid body moves with the velocity rigidVelocity * motion(t) (its particles start with the
+  // velocity at t = 0); multi-field contact holds its field to that motion.
+  bool rigid = false;
+  std::array<double, 3> rigidVelocity{};
+  std::array<double, 3> rigidNormal{};  // unit outward normal of a plane rigid body (0: none)
+  TimeFunction motion;
 };
 
 // The particles of all bodies that lie in this rank's cell columns, in the grid's dimension (3D:

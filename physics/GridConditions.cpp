@@ -97,6 +97,7 @@ void GridConditions::sumWallReactions() {
 
 void GridConditions::setStep(double t, double dt) {
   dt_ = dt;
+  contact_.setStep(t, dt);
   auto h = Kokkos::create_mirror_view(values_);
   zero_.fill(true);
   for (size_t c = 0; c < specs_.size(); ++c) {

@@ -94,7 +94,8 @@ class GridConditions {
                                const KinView& kin, int velCol, int accCol, double damping) {
     if (contact_.active()) {
       std::vector<double> pairForce;
-      contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, kin, velCol, accCol, kinStride_, dim_, dt_, &pairForce);
+      contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, kin, velCol, accCol, kinStride_, dim_, dt_, true,
+                                   &pairForce);
       std::copy(pairForce.begin(), pairForce.end(), localReaction_.end() - pairForce.size());
     }
     write<ExecSpace>(kin, velCol, PrescribedField::EndVelocity, kinStride_);
@@ -115,11 +116,13 @@ class GridConditions {
 
   // The contact and the walls on a grid velocity field alone (the velocity the stress is computed
   // from, with USF and MUSL): velocity into a wall or another body removed, friction as above; no
-  // acceleration, no reaction. The fields' columns in `vel` are velStride apart.
+  // acceleration, no reaction. The fields' columns in `vel` are velStride apart; rigid bodies move
+  // with their velocity at the step's end (stepEnd) or start.
   template <class ExecSpace, class SumsView, class VelocityView>
   void enforceContact(const SumsView& sums, int massCol, int gradCol, const VelocityView& vel, int velCol,
-                      int velStride) const {
-    contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, vel, velCol, -1, velStride, dim_, dt_, nullptr);
+                      int velStride, bool stepEnd) const {
+    contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, vel, velCol, -1, velStride, dim_, dt_, stepEnd,
+                                 nullptr);
     if (hasWalls()) wallContact<ExecSpace>(sums, massCol, sumsStride_, vel, velCol, -1, velStride, false);
   }
 

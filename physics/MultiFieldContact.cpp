@@ -25,6 +25,39 @@ MultiFieldContact::MultiFieldContact(const ContactSpec& spec, const double* spac
   }
   Kokkos::deep_copy(fieldOfBody_, field);
   Kokkos::deep_copy(friction_, mu);
+
+  rigid_ = Kokkos::View<int*, DeviceType>("contact_rigid_field", fields_);
+  rigidMotion_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("contact_rigid_motion", fields_, 6);
+  rigidNormal_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("contact_rigid_normal", fields_, 3);
+  auto normal = Kokkos::create_mirror_view(rigidNormal_);
+  rigidVelocity_.assign(fields_, {0.0, 0.0, 0.0});
+  rigidTime_.assign(fields_, TimeFunction{});
+  auto rigid = Kokkos::create_mirror_view(rigid_);
+  for (int a = 0; a < fields_; ++a) {
+    rigid(a) = a < (int)spec.rigid.size() && spec.rigid[a] ? 1 : 0;
+    if (!rigid(a)) continue;
+    hasRigid_ = true;
+    if (spec.rigidVelocity.size() != spec.rigid.size() || spec.rigidTime.size() != spec.rigid.size())
+      throw std::logic_error("ContactSpec: one velocity and one time function per rigid body");
+    rigidVelocity_[a] = spec.rigidVelocity[a];
+    rigidTime_[a] = spec.rigidTime[a];
+    for (int d = 0; d < 3 && a < (int)spec.rigidNormal.size(); ++d) normal(a, d) = spec.rigidNormal[a][d];
+  }
+  Kokkos::deep_copy(rigid_, rigid);
+  Kokkos::deep_copy(rigidNormal_, normal);
+}
+
+void MultiFieldContact::setStep(double t, double dt) {
+  if (!hasRigid_) return;
+  auto motion = Kokkos::create_mirror_view(rigidMotion_);
+  for (int a = 0; a < fields_; ++a) {
+    const double start = rigidTime_[a](t), end = rigidTime_[a](t + dt);
+    for (int d = 0; d < 3; ++d) {
+      motion(a, d) = rigidVelocity_[a][d] * start;
+      motion(a, 3 + d) = rigidVelocity_[a][d] * end;
+    }
+  }
+  Kokkos::deep_copy(rigidMotion_, motion);
 }
 
 }  // namespace impm

@@ -30,6 +30,15 @@
 // With three or more bodies at a node, a meets the others as one body (NairnMPM's "virtual
 // other"), with the law of the pair (a, the heaviest of the others).
 //
+// Rigid bodies (Uintah's "specified" contact, NairnMPM's rigid materials): a rigid body's field
+// takes its prescribed velocity V(t) at every node where it has mass, and counts as infinitely
+// heavy: at a node it shares, v_cm = V, so the other bodies lose their approach to it (and slip
+// under friction) while it keeps its motion; its particles, interpolating only V, move rigidly.
+// Its contact force (the others' reaction) is the whole m_a dv_a / dt of the bodies it meets. Two
+// rigid bodies pass through each other. A rigid body may give its surface's normal (a plane: a
+// wall at any angle, a platen): the volume gradient of particles that fill a tilted plane is a
+// staircase's, whose steps stopped a frictionless block on a 30 degree plane dead.
+//
 // The change m_a dv_a / dt is the contact force on a; the force of each pair of bodies on the body
 // named first (summed over nodes and ranks) is reported per pair. The explicit step applies the exchange
 // after the grid update (to the new velocity and the acceleration, so FLIP particles receive the
@@ -38,11 +47,13 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "core/Types.hpp"
+#include "physics/TimeFunction.hpp"
 
 namespace impm {
 
@@ -63,6 +74,14 @@ struct ContactSpec {
   // mass there lies closer along the normal than this many cell sizes to the centroid of its own
   // (0: the approach alone decides).
   double contactDistance = 0.0;
+  // Per body (empty: none rigid): whether it is rigid, and its prescribed velocity
+  // rigidVelocity * rigidTime(t).
+  std::vector<bool> rigid;
+  std::vector<std::array<double, 3>> rigidVelocity;
+  std::vector<TimeFunction> rigidTime;
+  // Per body (empty: none): the unit outward normal of a rigid body's contact surface (a plane: a
+  // wall, a platen), used at every node it shares instead of the volume gradients; 0: gradients.
+  std::vector<std::array<double, 3>> rigidNormal;
   bool enabled() const { return bodies.size() > 1; }
   // The index of the pair of bodies a != b.
   KOKKOS_INLINE_FUNCTION static int pairIndex(int a, int b, int bodyCount) {
@@ -85,15 +104,20 @@ class MultiFieldContact {
   int pairCount() const { return pairs_; }
   // Each body's field (the identity: one field per body).
   Kokkos::View<const int*, DeviceType> fieldOfBody() const { return fieldOfBody_; }
+  bool hasRigid() const { return hasRigid_; }
+  // The rigid bodies' velocities at the start and the end of the step [t, t + dt] (host; cheap).
+  void setStep(double t, double dt);
 
   // The exchange at every owned node (see the file comment). Field f of the particle sums `sums`
   // has its mass in column massCol + f * sumsStride, its volume gradient in gradCol.. and its
   // mass-weighted position in gradCol + dim..; its
   // velocity (and acceleration, when accCol >= 0) in `kin` at velCol + f * kinStride (accCol..).
   // With pairForce (3 per pair), the force of each pair on its first body is written there.
+  // Rigid fields take their velocity at the step's end (stepEnd) or start, and the step's change
+  // of it over dt as acceleration.
   template <class ExecSpace, class SumsView, class KinView>
   void exchange(const SumsView& sums, int massCol, int gradCol, int sumsStride, const KinView& kin, int velCol,
-                int accCol, int kinStride, int dim, double dt, std::vector<double>* pairForce) const;
+                int accCol, int kinStride, int dim, double dt, bool stepEnd, std::vector<double>* pairForce) const;
 
  private:
   template <class SumsView, class KinView>
@@ -106,7 +130,13 @@ class MultiFieldContact {
   double distance_ = 0.0;
   double spacing_[3] = {1.0, 1.0, 1.0};
   std::vector<double> pairSign_;
+  bool hasRigid_ = false;
+  std::vector<std::array<double, 3>> rigidVelocity_;
+  std::vector<TimeFunction> rigidTime_;
   Kokkos::View<int*, DeviceType> fieldOfBody_;
+  Kokkos::View<int*, DeviceType> rigid_;                              // per field: 1 if rigid
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> rigidMotion_;  // per field: V(t) (3), V(t + dt) (3)
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> rigidNormal_;  // per field: outward normal, or 0
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> friction_;  // field x field (kNoSlip: no slip)
 };
 
@@ -118,9 +148,11 @@ struct MultiFieldContact::Exchange {
   SumsView sums;
   KinView kin;
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> friction;
+  Kokkos::View<int*, DeviceType> rigid;
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> rigidMotion, rigidNormal;
   int massCol, gradCol, sumsStride, velCol, accCol, kinStride, fields, dim;
   double dt, screen, distance, h[3];
-  bool larger;
+  bool larger, hasRigid, stepEnd;
   size_type value_count;  // 3 per pair
 
   KOKKOS_INLINE_FUNCTION void init(double* f) const {
@@ -131,15 +163,15 @@ struct MultiFieldContact::Exchange {
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(int n, double* force) const {
-    double mass[kMaxFields], total = 0.0, p[3] = {0.0, 0.0, 0.0};
+    double mass[kMaxFields], total = 0.0;
     int present = 0;
     for (int f = 0; f < fields; ++f) {
       mass[f] = sums(n, massCol + f * sumsStride);
       if (!(mass[f] > 0.0)) continue;
       ++present;
       total += mass[f];
-      for (int d = 0; d < dim; ++d) p[d] += mass[f] * kin(n, velCol + f * kinStride + d);
     }
+    const int rigidField = hasRigid ? moveRigidFields(n, mass, total) : -1;
     if (present < 2) return;
     // The mass screen, one comparison per field (the same for both sides of a contact): a field
     // below it takes no part, and a node with fewer than two fields above it is no contact node.
@@ -147,12 +179,14 @@ struct MultiFieldContact::Exchange {
     for (int f = 0; f < fields; ++f) screened += mass[f] > 0.0 && !(mass[f] < screen * total) ? 1 : 0;
     if (screened < 2) return;
     double vcm[3] = {0.0, 0.0, 0.0};
-    for (int d = 0; d < dim; ++d) vcm[d] = p[d] / total;
+    centreOfMassVelocity(n, mass, rigidField, vcm);
     for (int a = 0; a < fields; ++a) {
-      if (!(mass[a] > 0.0) || mass[a] < screen * total) continue;
-      int other = -1;  // the heaviest other body: its pair's law
-      for (int f = 0; f < fields; ++f)
-        if (f != a && mass[f] > 0.0 && (other < 0 || mass[f] > mass[other])) other = f;
+      if (!(mass[a] > 0.0) || mass[a] < screen * total || (hasRigid && rigid(a))) continue;
+      int other = rigidField;  // a rigid body, else the heaviest other body: its pair's law
+      if (other < 0)
+        for (int f = 0; f < fields; ++f)
+          if (f != a && mass[f] > 0.0 && !(hasRigid && rigid(f)) && (other < 0 || mass[f] > mass[other])) other = f;
+      if (other < 0) continue;
       double normal[3] = {0.0, 0.0, 0.0};
       if (!contactNormal(n, a, other, normal)) continue;
       const double mu = friction(a, other);
@@ -174,13 +208,46 @@ struct MultiFieldContact::Exchange {
         for (int d = 0; d < dim; ++d) change[d] = -dn * normal[d] - removed * (dv[d] - dn * normal[d]);
       }
       const int pair = ContactSpec::pairIndex(a, other, fields);
-      const double sign = a < other ? 0.5 : -0.5;  // half from each side: the force on the pair's first body
+      // The force on the pair's first body: half from each side, or all of it from a's when the
+      // other is rigid (a rigid field takes no correction).
+      const double share = other == rigidField ? 1.0 : 0.5;
+      const double sign = a < other ? share : -share;
       for (int d = 0; d < dim; ++d) {
         kin(n, velCol + a * kinStride + d) += change[d];
         if (accCol >= 0) kin(n, accCol + a * kinStride + d) += change[d] / dt;
         force[3 * pair + d] += sign * mass[a] * change[d] / dt;
       }
     }
+  }
+
+  // Writes each rigid field's prescribed motion at node n (where it has mass) and returns the
+  // heaviest rigid field above the mass screen there (-1: none).
+  KOKKOS_INLINE_FUNCTION int moveRigidFields(int n, const double* mass, double total) const {
+    int heaviest = -1;
+    for (int f = 0; f < fields; ++f) {
+      if (!rigid(f) || !(mass[f] > 0.0)) continue;
+      for (int d = 0; d < dim; ++d) {
+        kin(n, velCol + f * kinStride + d) = rigidMotion(f, (stepEnd ? 3 : 0) + d);
+        if (accCol >= 0) kin(n, accCol + f * kinStride + d) = (rigidMotion(f, 3 + d) - rigidMotion(f, d)) / dt;
+      }
+      if (!(mass[f] < screen * total) && (heaviest < 0 || mass[f] > mass[heaviest])) heaviest = f;
+    }
+    return heaviest;
+  }
+
+  // The velocity the bodies at node n meet at: a rigid body's, else the centre of mass's.
+  KOKKOS_INLINE_FUNCTION void centreOfMassVelocity(int n, const double* mass, int rigidField, double* vcm) const {
+    if (rigidField >= 0) {
+      for (int d = 0; d < dim; ++d) vcm[d] = kin(n, velCol + rigidField * kinStride + d);
+      return;
+    }
+    double p[3] = {0.0, 0.0, 0.0}, m = 0.0;
+    for (int f = 0; f < fields; ++f) {
+      if (!(mass[f] > 0.0) || (hasRigid && rigid(f))) continue;  // (a rigid field below the screen)
+      m += mass[f];
+      for (int d = 0; d < dim; ++d) p[d] += mass[f] * kin(n, velCol + f * kinStride + d);
+    }
+    for (int d = 0; d < dim; ++d) vcm[d] = m > 0.0 ? p[d] / m : 0.0;
   }
 
   // The sum over the fields other than a of columns col.. of `sums` (with two fields, exactly the
@@ -206,8 +273,13 @@ struct MultiFieldContact::Exchange {
     return gap < distance * std::sqrt(hn);
   }
 
-  // The unit normal out of field a at node n (false where it is undefined).
+  // The unit normal out of field a at node n (false where it is undefined): a rigid other's
+  // given surface normal, reversed, or from the volume gradients.
   KOKKOS_INLINE_FUNCTION bool contactNormal(int n, int a, int other, double* normal) const {
+    if (hasRigid && rigid(other) && (rigidNormal(other, 0) != 0.0 || rigidNormal(other, 1) != 0.0 || rigidNormal(other, 2) != 0.0)) {
+      for (int d = 0; d < dim; ++d) normal[d] = -rigidNormal(other, d);
+      return true;
+    }
     double ga[3] = {0.0, 0.0, 0.0}, rest[3], la = 0.0, lr = 0.0;
     othersSum(n, a, gradCol, rest);
     for (int d = 0; d < dim; ++d) {
@@ -234,12 +306,13 @@ struct MultiFieldContact::Exchange {
 
 template <class ExecSpace, class SumsView, class KinView>
 void MultiFieldContact::exchange(const SumsView& sums, int massCol, int gradCol, int sumsStride, const KinView& kin,
-                                 int velCol, int accCol, int kinStride, int dim, double dt,
+                                 int velCol, int accCol, int kinStride, int dim, double dt, bool stepEnd,
                                  std::vector<double>* pairForce) const {
   if (!active()) return;
-  Exchange<SumsView, KinView> op{sums,    kin,       friction_, massCol, gradCol, sumsStride, velCol,
-                                 accCol,  kinStride, fields_,   dim,     dt,      screen_,    distance_,
-                                 {spacing_[0], spacing_[1], spacing_[2]}, larger_, 3 * pairs_};
+  Exchange<SumsView, KinView> op{sums,    kin,     friction_, rigid_,    rigidMotion_, rigidNormal_,
+                                 massCol, gradCol, sumsStride, velCol,   accCol,
+                                 kinStride, fields_, dim,     dt,        screen_,
+                                 distance_, {spacing_[0], spacing_[1], spacing_[2]}, larger_, hasRigid_, stepEnd, 3 * pairs_};
   std::vector<double> sumsOut(3 * pairs_, 0.0);
   Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> result(sumsOut.data(), sumsOut.size());
   Kokkos::parallel_reduce("multi_field_contact", Kokkos::RangePolicy<ExecSpace>(0, kin.extent(0)), op, result);

@@ -107,7 +107,7 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
   } else {  // (update stress first: the velocity at the start of the step)
     conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity, ks);
     conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero, ks);
-    conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, kinv, K::VelX, ks);
+    conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, kinv, K::VelX, ks, false);
   }
 }
 
@@ -191,7 +191,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
             }
           });
       conditions_.template write<Exec>(acc, A::MomX, PrescribedField::EndVelocity, ss);
-      conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, acc, A::MomX, ss);
+      conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, acc, A::MomX, ss, true);
     }
     fields_.importAccumulated();
     stressFromGhostedVelocity(dt, true);

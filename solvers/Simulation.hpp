@@ -97,8 +97,10 @@ class Simulation {
   void checkParticlesBesideWalls(const std::vector<WallSpec>& walls) const;
   ContactSpec buildContact() const;  // ContactSection.cpp
   void checkContactUsable() const;
+  void readRigidBodies(ContactSpec& spec) const;
   std::pair<int, int> contactPairBodies(const std::string& key, const std::string& value) const;
   TimeFunction timeFunctionOf(const Teuchos::ParameterList& list, const std::string& key) const;
+  void readRigidMotion(const std::string& key, const Teuchos::ParameterList& b, BodySpec& body) const;
   void readMotion(const Teuchos::ParameterList& list, const std::string& key, ConstraintSpec& spec) const;
   void checkConditionOverlaps(const std::vector<ConstraintSpec>& specs) const;
   // A moving condition whose nodes no particle reaches moves nothing: refused (after the particles exist).

@@ -63,6 +63,19 @@ RCP<const ParameterList> build::bodiesTemplate() {
   number(*pl, "Velocity X", 0.0, "initial velocity, x (m/s)");
   number(*pl, "Velocity Y", 0.0, "initial velocity, y (m/s)");
   number(*pl, "Velocity Z", 0.0, "initial velocity, z (m/s; 3D)");
+  pl->set("Rigid", false,
+          "true: the body moves rigidly with Velocity X/Y/Z times its Time Function (a platen, an indenter, a wall at "
+          "any angle) and meets the other bodies through 'Contact/Type' = Multi Field, as if infinitely heavy: they "
+          "stop approaching it and slide on it by the pair's law. The force on it is its pairs' contact force in "
+          "history.csv. Its material gives it mass only");
+  timeFunctionKeys(*pl, "Constant", "Rigid bodies: the factor of Velocity X/Y/Z over time");
+  const char* const normalDoc =
+      "Rigid bodies with a plane contact surface (a wall, a platen): its outward normal, x component (any length; "
+      "0, 0, 0: the contact normal comes from the bodies' volume gradients, which follow the staircase of "
+      "particles on a surface across grid lines)";
+  number(*pl, "Normal X", 0.0, normalDoc);
+  number(*pl, "Normal Y", 0.0, "the same, y");
+  number(*pl, "Normal Z", 0.0, "the same, z (3D)");
   return pl;
 }
 
@@ -118,6 +131,7 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
     throw DeckError("'" + key + "/Shape' = " + shape + " is a 2D shape; with 'Grid/Dimension' = 3 a body is a Rectangle (box) or a Particles File");
   if (grid_.dim == 2 && body.velocityZ != 0.0)
     throw DeckError("'" + key + "/Velocity Z' = " + formatNumber(body.velocityZ) + " needs 'Grid/Dimension' = 3");
+  readRigidMotion(key, b, body);
   if (b.get<std::string>("Particle Placement") == "Gauss") {
     // Gauss pairs in sub-cells: an even count per direction, and only where a lattice is filled.
     if (shape == "Particles File" || placement_ != Placement::Lattice)
@@ -167,6 +181,32 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
   checkInsideGrid(key, body);
   estimateBodySize(body, fileParticles);
   return body;
+}
+
+// A Rigid body's motion: Velocity X/Y/Z times its Time Function (the particles start with its value at
+// t = 0); a body that is not rigid keeps the default time function.
+void Simulation::readRigidMotion(const std::string& key, const ParameterList& b, BodySpec& body) const {
+  body.rigid = b.get<bool>("Rigid");
+  body.motion = timeFunctionOf(b, key);
+  const double normal[3] = {b.get<double>("Normal X"), b.get<double>("Normal Y"), b.get<double>("Normal Z")};
+  const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+  if (length > 0.0 && !body.rigid)
+    throw DeckError("'" + key + "/Normal X/Y/Z' give a rigid body's surface normal; set '" + key + "/Rigid' = true or remove them");
+  if (!std::isfinite(length)) throw DeckError("'" + key + "/Normal X/Y/Z' must be finite");
+  if (grid_.dim == 2 && normal[2] != 0.0)
+    throw DeckError("'" + key + "/Normal Z' = " + formatNumber(normal[2]) + " needs 'Grid/Dimension' = 3");
+  for (int d = 0; d < 3 && length > 0.0; ++d) body.rigidNormal[d] = normal[d] / length;
+  if (!body.rigid) {
+    if (b.get<std::string>("Time Function") != "Constant")
+      throw DeckError("'" + key + "/Time Function' = " + b.get<std::string>("Time Function") +
+                      " scales a rigid body's velocity; set '" + key + "/Rigid' = true or remove it");
+    return;
+  }
+  body.rigidVelocity = {body.velocityX, body.velocityY, body.velocityZ};
+  const double start = body.motion(0.0);
+  body.velocityX *= start;
+  body.velocityY *= start;
+  body.velocityZ *= start;
 }
 
 // A Rectangle body: X/Y(/Z) Min/Max ordered, inside the grid and on grid lines (FE Q9: element edges).

@@ -98,6 +98,10 @@ ContactSpec Simulation::buildContact() const {
   const ParameterList& pairs = deck_.sublist("Contact Pairs");
   ContactSpec spec;
   if (c.get<std::string>("Type") != "Multi Field") {
+    for (const BodySpec& b : bodies_)
+      if (b.rigid)
+        throw DeckError("'Bodies/" + b.name + "/Rigid' = true needs 'Contact/Type' = Multi Field (a rigid body meets "
+                        "the others through contact)");
     if (pairs.numParams() > 0)
       throw DeckError("'Contact Pairs/" + pairs.name(pairs.begin()) + "' needs 'Contact/Type' = Multi Field");
     return spec;
@@ -112,6 +116,7 @@ ContactSpec Simulation::buildContact() const {
   spec.normals = c.get<std::string>("Normals") == "Average" ? ContactSpec::Normals::Average : ContactSpec::Normals::LargerGradient;
   const int n = (int)bodies_.size();
   for (const BodySpec& b : bodies_) spec.bodies.push_back(b.name);
+  readRigidBodies(spec);
   const double law = frictionOf(c, "Contact");
   std::vector<std::string> entry(n * (n - 1) / 2);  // the Contact Pairs entry of each pair
   spec.pairFriction.assign(n * (n - 1) / 2, law);
@@ -132,6 +137,20 @@ ContactSpec Simulation::buildContact() const {
     spec.pairNames[k] = name;
   }
   return spec;
+}
+
+// The rigid bodies' motions; at least one body must be free to move.
+void Simulation::readRigidBodies(ContactSpec& spec) const {
+  bool anyFree = false;
+  for (const BodySpec& b : bodies_) {
+    spec.rigid.push_back(b.rigid);
+    spec.rigidVelocity.push_back(b.rigidVelocity);
+    spec.rigidTime.push_back(b.motion);
+    spec.rigidNormal.push_back(b.rigidNormal);
+    anyFree = anyFree || !b.rigid;
+  }
+  if (!anyFree)
+    throw DeckError("'Bodies/" + bodies_.front().name + "/Rigid': every body is rigid; contact needs a body that is not");
 }
 
 // Multi-field contact: two bodies or more (at most MultiFieldContact::kMaxFields), the explicit

@@ -34,6 +34,7 @@ set(CASES
   "contact_disks_gimp|colliding_disks_contact_explicit_gimp.yaml|1500|50"
   "contact_incline_usf_gimp|block_incline_contact_explicit_gimp.yaml|400|40|Update Scheme: USL|Update Scheme: USF"
   "contact_incline_musl_gimp|block_incline_contact_explicit_gimp.yaml|400|40|Update Scheme: USL|Update Scheme: MUSL"
+  "contact_rigid_platen_gimp|platen_compression_rigid_explicit_gimp.yaml|300|20"
   "explicit_platens_gimp_velocity|platens_implicit_mpm_j2.yaml|400|40|Type: Implicit|Type: Explicit|Time Step: 0.5|Time Step: 2.0e-5|Shape Function: MPM|Shape Function: GIMP|Motion: Displacement|Motion: Velocity|Value Y: -0.01|Value Y: -1.0|Ramp Time: 10.0|Ramp Time: 2.0e-3"
 )
 # Lines of summary.yaml that count solver work (and the run's status).
