@@ -158,6 +158,15 @@ TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitGimpDisksMultiFieldContact) {
   checkIndependence("disks_contact_balanced", deck, {{np, 1, 0}}, out, success);
 }
 
+// Rigid bodies: the block on the rigid plane tilted across the grid (mu = 0.1: sliding with
+// friction) slides across the rank cuts (12 cm along x in 0.25 s); the force on it compared as well.
+TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitGimpBlockOnTiltedRigidPlane) {
+  ParameterList deck = appDeck("block_tilted_plane_rigid_explicit_gimp.yaml");
+  deck.sublist("Contact").set("Friction", 0.1);
+  const int np = Tpetra::getDefaultComm()->getSize();
+  checkIndependence("rigid_plane", deck, slabs2d(np), out, success);
+}
+
 // A bar whose standing wave carries particles across cell lines (amplitude 0.3 h) and so across
 // the rank boundaries at the middle of the bar, with migration after every step that moves one
 // (Migration Slack Cells 0: the eager path).
