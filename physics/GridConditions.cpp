@@ -3,6 +3,7 @@
 #include <Teuchos_CommHelpers.hpp>
 
 #include <cmath>
+#include <map>
 #include <set>
 #include <utility>
 
@@ -50,10 +51,11 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   dofForce_ = Kokkos::View<double*, DeviceType>("condition_dof_force", nodes.size());
   localReaction_.assign(3 * (specs.size() + walls.size() + contact_.pairCount()), 0.0);
 
-  // Walls: every owned node on or behind the plane (to round-off), except nodes a constraint moves.
-  std::set<int> prescribedNodes;
-  for (const auto& [n, d] : taken) prescribedNodes.insert(n);
-  std::vector<int> wallNodes, wallOf;
+  // Walls: every owned node on or behind the plane (to round-off), acting on the components no
+  // constraint prescribes there (a node whose normal component is prescribed keeps its motion).
+  std::map<int, int> prescribedMask;  // owned node -> bit d set when component d is prescribed
+  for (const auto& [n, d] : taken) prescribedMask[n] |= 1 << d;
+  std::vector<int> wallNodes, wallOf, wallFree;
   wallParams_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_parameters", walls.size(), 3);
   auto hp = Kokkos::create_mirror_view(wallParams_);
   for (size_t w = 0; w < walls.size(); ++w) {
@@ -70,9 +72,12 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
         for (int k = owned.lo[2]; k < owned.end(2); ++k) {
           const int ijk[3] = {i, j, k};
           const double x = g.origin(wall.axis) + g.spacing(wall.axis) * ijk[wall.axis];
-          if (wall.side * (x - wall.position) > tolerance || prescribedNodes.count(owned(i, j, k))) continue;
+          const auto found = prescribedMask.find(owned(i, j, k));
+          const int held = found == prescribedMask.end() ? 0 : found->second;
+          if (wall.side * (x - wall.position) > tolerance || (held >> wall.axis) & 1) continue;
           wallNodes.push_back(owned(i, j, k));
           wallOf.push_back((int)w);
+          wallFree.push_back(~held & 7);
         }
   }
   Kokkos::deep_copy(wallParams_, hp);
@@ -83,6 +88,7 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   }
   wallNode_ = toDevice(wallNodes, "wall_nodes");
   wallOf_ = toDevice(wallOf, "wall_of_node");
+  wallFree_ = toDevice(wallFree, "wall_free_components");
   wallForce_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_node_force", wallNodes.size(), 3);
 }
 

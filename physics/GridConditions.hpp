@@ -14,7 +14,9 @@
 // node on or behind it that would move into it after the grid update loses that normal velocity
 // (and gains nothing if it moves away: contact is one-sided), and Coulomb friction takes off at
 // most `friction` times the normal velocity change from its tangential velocity (stopping it when
-// that suffices); its reaction is m dv / dt. Nodes with a prescribed component keep their motion.
+// that suffices); its reaction is m dv / dt. A wall changes only the components no constraint
+// prescribes at the node (a symmetry plane's nodes still meet a wall across it), and leaves a node
+// whose normal component is prescribed alone.
 #pragma once
 
 #include <algorithm>
@@ -166,12 +168,12 @@ class GridConditions {
   template <class ExecSpace, class SumsView, class KinView>
   void wallContact(const SumsView& sums, int massCol, int sumsStride, const KinView& kin, int velCol, int accCol,
                    int kinStride, bool record) const {
-    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto force = wallForce_;
+    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto force = wallForce_; auto free = wallFree_;
     const int dim = dim_, fields = kinStride > 0 ? fieldCount() : 1;
     const double dt = dt_;
     Kokkos::parallel_for(
         "wall_contact", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          const int n = node(k), w = wall(k);
+          const int n = node(k), w = wall(k), mask = free(k);
           const int axis = (int)params(w, 0);
           const double side = params(w, 1), mu = params(w, 2);
           double total[3] = {0.0, 0.0, 0.0};
@@ -182,13 +184,13 @@ class GridConditions {
             const double vn = side * kin(n, vel + axis);
             if (m > 0.0 && vn < 0.0) {
               dv[axis] = -kin(n, vel + axis);
-              double vt2 = 0.0;
+              double vt2 = 0.0;  // (components a constraint prescribes keep their motion)
               for (int d = 0; d < dim; ++d)
-                if (d != axis) vt2 += kin(n, vel + d) * kin(n, vel + d);
+                if (d != axis && (mask >> d) & 1) vt2 += kin(n, vel + d) * kin(n, vel + d);
               const double vt = std::sqrt(vt2), limit = -mu * vn;
               const double removed = vt <= limit ? 1.0 : limit / vt;  // the tangential fraction friction stops
               for (int d = 0; d < dim; ++d)
-                if (d != axis) dv[d] = -removed * kin(n, vel + d);
+                if (d != axis && (mask >> d) & 1) dv[d] = -removed * kin(n, vel + d);
             }
             for (int d = 0; d < dim; ++d) {
               kin(n, vel + d) += dv[d];
@@ -214,6 +216,7 @@ class GridConditions {
   // friction), and each wall node's last reaction.
   std::vector<WallSpec> walls_;
   Kokkos::View<int*, DeviceType> wallNode_, wallOf_;
+  Kokkos::View<int*, DeviceType> wallFree_;  // per wall node: bit d set when the wall may change component d
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> wallParams_, wallForce_;
   MultiFieldContact contact_;
   int sumsStride_ = 0, kinStride_ = 0;
