@@ -72,7 +72,7 @@ REFERENCE = {
 
 # --check: the largest accepted distance from the band, as a fraction of the band's midpoint, per
 # cells per radius (a resolution not listed takes the nearest coarser one): the distance measured
-# at that resolution (doc/verification.md, Taylor bar: R0/4 0.38% above the length band and inside
+# at that resolution (doc/user-guide.md, Taylor bar: R0/4 0.38% above the length band and inside
 # the radius band; R0/8 inside the length band and 1.39% above the radius band) plus the band's
 # own width (1.3% in length, 1.7% in radius), rounded up to 0.5%: a result may move by the spread
 # of the published values before the check fails.
@@ -145,7 +145,7 @@ def grid(n_radius, full=False):
 SYMMETRY_NOTE = {
     "roller": """# Symmetry planes x = 0 and y = 0: Constraints on x and on y. The wall acts on the components
 # a constraint leaves free, so the symmetry planes' nodes meet it too. This quarter model agrees
-# with the whole cylinder (taylor_bar.py --symmetry full); see doc/verification.md, Taylor bar.
+# with the whole cylinder (taylor_bar.py --symmetry full); see doc/user-guide.md, Taylor bar.
 """,
     "full": """# The whole cylinder, no symmetry planes: the wall acts on every node at and behind z = 0.
 """,
