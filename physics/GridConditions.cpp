@@ -89,8 +89,12 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   wallNode_ = toDevice(wallNodes, "wall_nodes");
   wallOf_ = toDevice(wallOf, "wall_of_node");
   wallFree_ = toDevice(wallFree, "wall_free_components");
+  wallHeld_ = Kokkos::View<int*, DeviceType>("wall_held", wallNodes.size());
+  wallDecided_ = Kokkos::View<int*, DeviceType>("wall_decided", wallNodes.size());
   wallForce_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_node_force", wallNodes.size(), 3);
 }
+
+void GridConditions::beginImplicitWallStep() { Kokkos::deep_copy(wallDecided_, 0); }
 
 void GridConditions::sumWallReactions() {
   auto force = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), wallForce_);

@@ -133,6 +133,9 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void normalizeGridState(double t, double dt, bool accelerationFromForces);
   StepControl::Outcome solveStep(double t, double dt);  // one Newton solve of [t, t + dt]
   void finishStep(const Vector& u);      // grid and particle update with the converged u
+  bool reviseWallContacts(const Vector& u);  // walls: release / hold components; true if any changed
+  auto heldWallReaction() const;
+  static constexpr int kWallSolves = 5;
   void gridUpdate();                     // a_new and the velocity increment on the grid
   void updateParticles();                // stress, then x, v, a of the particles
   void recordReactions(const Vector& u); // the grid conditions' reactions: the residual at their dofs

@@ -190,6 +190,8 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
   conditions_.template write<Exec>(s, SC::VelX, PrescribedField::StartVelocity);
   conditions_.template write<Exec>(s, SC::AccX, PrescribedField::StartAcceleration);
   conditions_.template write<Exec>(s, SC::FreeX, PrescribedField::Zero);
+  if (conditions_.hasWalls())
+    conditions_.template holdImplicitWallContacts<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt);
 }
 
 // The lumped projection v_i = sum m_p S_ip v_p / m_i smooths the grid state every step (by
@@ -259,6 +261,20 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   }
 }
 
+// The force that stops a held wall component over the step: -m v / dt - F_int - F_ext (the forces
+// at the last residual's point).
+template <class Shape, int Dim>
+auto ImplicitNewmark<Shape, Dim>::heldWallReaction() const {
+  using SC = implicit::StateColumns<Dim>;
+  using FC = implicit::ForceColumns<Dim>;
+  auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  const double dt = dt_;
+  return KOKKOS_LAMBDA(int n, int d) {
+    return -s(n, SC::Mass) * s(n, SC::VelX + d) / dt - f(n, FC::ForceX + d) - s(n, SC::FextX + d);
+  };
+}
+
 // The reaction of each grid condition: the residual of the converged step at its dofs, the
 // force the condition applies so that its nodes move as prescribed. The forces at u are those of
 // the last residual when it was evaluated at u (NOX's convergence check normally is), else one
@@ -285,6 +301,31 @@ void ImplicitNewmark<Shape, Dim>::recordReactions(const Vector& u) {
                                                  NewmarkConstants(opt_.newmark, dt_), opt_.consistentMass);
   auto disp = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   conditions_.template recordReaction<Exec>(KOKKOS_LAMBDA(int n, int d) { return atNode(n, d, disp(n, DC::UX + d)); });
+  if (conditions_.hasWalls()) conditions_.template recordImplicitWallReactions<Exec>(heldWallReaction());
+}
+
+// Implicit walls: after a converged solve, the components to release or hold (collective); when
+// any changed, the free dofs follow and the step is to be solved again.
+template <class Shape, int Dim>
+bool ImplicitNewmark<Shape, Dim>::reviseWallContacts(const Vector& u) {
+  using SC = implicit::StateColumns<Dim>;
+  using DC = implicit::DisplacementColumns<Dim>;
+  Vector R(dofs_.map(), false);
+  residual(u, R);  // the forces at u, and u in the grid displacement
+  const double tolerance = 1e-9 * dist_.grid().spacing(0);
+  const int local = conditions_.template reviseImplicitWallContacts<Exec>(
+      dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly), DC::UX, heldWallReaction(), tolerance);
+  int changes = 0;
+  Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
+  if (changes == 0) return false;
+  {
+    auto st = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    conditions_.template holdImplicitWallContacts<Exec>(st, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, massCutoff_, dt_);
+  }
+  stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
+  PCurrent_ = false;
+  if (dofs_.update(*stateOwned_, SC::FreeX)) assembler_.forgetMatrix();
+  return true;
 }
 
 // || |P| |u| + |m (c2 v + c3 a)| + |F_ext| ||_2 over the free dofs (ResidualModel::residualMagnitude):
@@ -415,6 +456,7 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
         });
     conditions_.template write<Exec>(d, DC::AnewX, PrescribedField::Acceleration);
     conditions_.template write<Exec>(d, DC::DvX, PrescribedField::VelocityChange);
+    if (conditions_.hasWalls()) conditions_.template stopImplicitWallContacts<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt);
   }
   if (!opt_.fixedParticles) return;
   auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
@@ -477,19 +519,29 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
 template <class Shape, int Dim>
 StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt) {
   using clock = std::chrono::steady_clock;
-  const auto t0 = clock::now();
+  auto t0 = clock::now();
+  if (conditions_.hasWalls()) conditions_.beginImplicitWallStep();
   setUpStep(t, dt);
-  Vector u(dofs_.map(), true);
-  const auto t1 = clock::now();
-  const NewtonResult result = [&] {
-    PhaseTimer phase("Newton solve (NOX)");
-    return solver_->solve(*this, u);
-  }();
-  const auto t2 = clock::now();
-  statistics_.recordAttempt(result, std::chrono::duration<double>(t1 - t0).count(),
-                            std::chrono::duration<double>(t2 - t1).count());
-  if (!result.converged) return {false, result.newtonIterations, result.reason};
-  finishStep(u);
+  // With walls, the solve is repeated until the held wall components settle (at most
+  // kWallSolves solves; the last one stands).
+  Teuchos::RCP<Vector> u;
+  NewtonResult result;
+  auto t2 = t0;
+  for (int solve = 1;; ++solve) {
+    u = Teuchos::rcp(new Vector(dofs_.map(), true));
+    const auto t1 = clock::now();
+    result = [&] {
+      PhaseTimer phase("Newton solve (NOX)");
+      return solver_->solve(*this, *u);
+    }();
+    t2 = clock::now();
+    statistics_.recordAttempt(result, std::chrono::duration<double>(t1 - t0).count(),
+                              std::chrono::duration<double>(t2 - t1).count());
+    if (!result.converged) return {false, result.newtonIterations, result.reason};
+    t0 = clock::now();
+    if (!conditions_.hasWalls() || solve >= kWallSolves || !reviseWallContacts(*u)) break;
+  }
+  finishStep(*u);
   statistics_.recordStep(result, std::chrono::duration<double>(clock::now() - t2).count());
   refresh_.noteKrylovIterations(result.krylovIterations);
   return {true, result.newtonIterations, ""};
