@@ -36,14 +36,22 @@ void checkDisks(const std::string& method, Teuchos::FancyOStream& out, bool& suc
   // The disks' momenta cancel: the total stays zero to round-off of sum m |v| (FLIP moves
   // momentum only through grid forces that sum to zero by partition of unity).
   TEST_COMPARE(r.momentumMaxRelativeChange, <, 1e-12);
-  // Energy: measured drifts are in doc/method.md (a few percent lost in the collision: the
-  // single-velocity grid makes the disks stick, which is dissipative); the bound catches a
-  // blow-up or a wrong strain energy (the collision turns ~all kinetic energy into strain).
-  TEST_COMPARE(std::abs(r.energyRelativeDrift), <, 0.1);
+  // Energy: a few percent lost in the collision (the single-velocity grid makes the disks
+  // stick, which is dissipative), never gained. Measured (MPM / GIMP): drift -2.5% / -2.3%, largest
+  // deviation 7.3% / 7.0% (mid-collision), peak strain energy 0.90 of the initial total (the
+  // collision turns most kinetic energy into strain). Asserted: drift in (-5%, 0], deviation
+  // below 10%, peak strain energy between 0.5 and 1 of the initial total (a doubled strain
+  // energy, or energy created, fails).
+  TEST_COMPARE(r.energyRelativeDrift, >, -0.05);
+  TEST_COMPARE(r.energyRelativeDrift, <=, 0.0);
+  TEST_COMPARE(r.energyMaxRelativeDeviation, <, 0.1);
   double maxStrain = 0;
   for (double s : r.strain) maxStrain = std::max(maxStrain, s);
   const double e0 = r.kinetic.front() + r.strain.front();
+  out << method << ": energy drift " << r.energyRelativeDrift << ", max deviation " << r.energyMaxRelativeDeviation
+      << ", peak strain energy " << maxStrain / e0 << " of the initial total\n";
   TEST_COMPARE(maxStrain, >, 0.5 * e0);
+  TEST_COMPARE(maxStrain, <, 1.0 * e0);
   // Decomposition: at np 2, rank 0 reruns alone and compares the whole history.
   if (comm->getSize() > 1) {
     auto self = comm->split(comm->getRank(), 0);
