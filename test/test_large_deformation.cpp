@@ -419,12 +419,18 @@ TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanDisksExplicit) {
     out << log.str();
     TEST_EQUALITY_CONST(r.status, "completed");
     TEST_COMPARE(r.momentumMaxRelativeChange, <, 1e-12);
-    TEST_COMPARE(std::abs(r.energyRelativeDrift), <, 0.05);
+    out << "energy drift " << r.energyRelativeDrift << ", max deviation " << r.energyMaxRelativeDeviation << "\n";
+    // Energy is lost, never gained: drift in (-5%, 0], largest deviation below 5% (measured 3.4%
+    // and 3.4%), and the peak strain energy between 0.7 and 1 of the initial total (measured 0.83).
+    TEST_COMPARE(r.energyRelativeDrift, >, -0.05);
+    TEST_COMPARE(r.energyRelativeDrift, <=, 0.0);
+    TEST_COMPARE(r.energyMaxRelativeDeviation, <, 0.05);
     const auto h = impm_test::readHistory("test_output/disks_neohookean/history.csv");
     const auto& strain = h.at("strain_energy");
     const double peak = *std::max_element(strain.begin(), strain.end());
     out << "peak strain energy / initial total: " << peak / h.at("total_energy").front() << "\n";
     TEST_COMPARE(peak, >, 0.7 * h.at("total_energy").front());
+    TEST_COMPARE(peak, <, 1.0 * h.at("total_energy").front());
   }
   // At the deepest compression (t = 0.68 s, the strain energy's peak): the smallest det F.
   deck->sublist("Integrator").set("Number of Steps", 680);
