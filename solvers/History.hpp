@@ -34,6 +34,8 @@ struct RunResult {
   double wallSeconds = 0;
   long long particles = 0;
   int steps = 0;
+  // The first step this run computed: 1, or k + 1 after a restart from a checkpoint at step k.
+  int firstStep = 1;
   double particleStepsPerSecond = 0;
   // "completed", or why the run stopped early: "diverged", "newton failed", "left the grid".
   std::string status = "completed";

@@ -242,6 +242,7 @@ RunResult Simulation::run(std::ostream& log) {
   const long long localCount = particles_.count;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, localCount, Teuchos::outArg(r.particles));
   r.steps = steps_;
+  r.firstStep = firstStep + 1;
   noteLoadImbalance(r);
 
   History history(monitors_, particles_, materials_, exact_.get(), energyHistory_, comm_, dt_, &constraints_);

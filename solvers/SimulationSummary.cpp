@@ -87,6 +87,7 @@ void Simulation::writeSummary(const RunResult& r) const {
   s.set("Materials", materials_.count());
   s.set("Particles", (int)r.particles);
   s.set("Steps", r.steps);
+  s.set("First Step", r.firstStep);  // 1, or the checkpoint's step + 1 after a restart
   s.set("Time Step", dt_);
   s.set("End Time", dt_ * r.steps);
   s.set("MPI Ranks", comm_->getSize());

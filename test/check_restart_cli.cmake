@@ -119,4 +119,10 @@ file(READ "${WORK}/out/history.csv" restarted)
 if(NOT rc EQUAL 0 OR NOT restarted STREQUAL history)
   message(FATAL_ERROR "the good restart failed (exit ${rc}) or changed history.csv: ${err}")
 endif()
-message(STATUS "good restart: history.csv identical")
+# It resumed at step 21 (the checkpoint was taken after step 20), not from step 0.
+file(READ "${WORK}/out/summary.yaml" summary)
+if(NOT summary MATCHES "First Step: 21
+")
+  message(FATAL_ERROR "the good restart's summary.yaml does not say 'First Step: 21'")
+endif()
+message(STATUS "good restart: history.csv identical, resumed at step 21")

@@ -101,6 +101,9 @@ void checkRestart(const ParameterList& deck, const std::string& name, int steps,
   const Run restarted = run(d, comm, base + "_restarted", 0, base + "_checkpointed/checkpoint");
   TEST_ASSERT(!reference.csv.empty());
   TEST_ASSERT(restarted.csv == reference.csv);
+  // Resumed where the checkpoint was taken, not from step 0.
+  TEST_EQUALITY(reference.result.firstStep, 1);
+  TEST_EQUALITY(restarted.result.firstStep, k + 1);
   TEST_EQUALITY(relativeDifference(restarted.result, reference.result), 0.0);
   TEST_EQUALITY(restarted.result.energyRelativeDrift, reference.result.energyRelativeDrift);
   const Run inPlace = run(d, comm, base + "_checkpointed", 0, base + "_checkpointed/checkpoint", true);
