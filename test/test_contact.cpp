@@ -26,6 +26,7 @@
 #include "core/InputDeck.hpp"
 #include "solvers/Simulation.hpp"
 #include "solvers/build/Deck.hpp"
+#include "DeckRefusals.hpp"
 
 namespace {
 
@@ -371,14 +372,10 @@ TEUCHOS_UNIT_TEST(Contact, CubesCollideAndSeparateIn3d) {
 
 // Each refusal: one DeckError naming the key.
 TEUCHOS_UNIT_TEST(Contact, RefusesBadContact) {
-  struct Case {
-    std::string what, key, message;
-    std::function<void(ParameterList&)> edit;
-  };
   auto pair = [](ParameterList& d, const std::string& bodies) {
     return &d.sublist("Contact Pairs").sublist("pair").set("Bodies", bodies);
   };
-  const std::vector<Case> cases = {
+  const std::vector<impm_test::DeckRefusal> cases = {
       {"implicit", "Contact/Type", "explicit step only",
        [](ParameterList& d) { d.sublist("Integrator").set("Type", "Implicit"); }},
       {"negative friction", "Contact/Friction", "must be a finite coefficient >= 0",
@@ -413,20 +410,7 @@ TEUCHOS_UNIT_TEST(Contact, RefusesBadContact) {
          d.remove("Constraints");
        }},
   };
-  for (const Case& c : cases) {
-    ParameterList d = deckOf("block_incline_contact_explicit_gimp.yaml");
-    c.edit(d);
-    std::string message;
-    try {
-      impm::validateDeck(d);
-      impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/contact_bad");
-    } catch (const impm::DeckError& e) {
-      message = e.what();
-    }
-    out << c.what << ": " << message << "\n";
-    TEST_ASSERT(message.find("'" + c.key) != std::string::npos);
-    TEST_ASSERT(message.find(c.message) != std::string::npos);
-  }
+  impm_test::checkRefusals(deckOf("block_incline_contact_explicit_gimp.yaml"), cases, "test_output/contact_bad", out, success);
 }
 
 }  // namespace

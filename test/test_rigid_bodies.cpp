@@ -22,6 +22,7 @@
 #include "core/InputDeck.hpp"
 #include "solvers/Simulation.hpp"
 #include "solvers/build/Deck.hpp"
+#include "DeckRefusals.hpp"
 
 namespace {
 
@@ -175,11 +176,7 @@ TEUCHOS_UNIT_TEST(RigidBodies, BlockSlidesDownTiltedRigidPlane) {
 
 // Each refusal: one DeckError naming the key.
 TEUCHOS_UNIT_TEST(RigidBodies, RefusesBadRigidBodies) {
-  struct Case {
-    std::string what, key, message;
-    std::function<void(ParameterList&)> edit;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<impm_test::DeckRefusal> cases = {
       {"without contact", "Bodies/floor/Rigid", "needs 'Contact/Type' = Multi Field",
        [](ParameterList& d) {
          d.sublist("Contact").set("Type", "Single Field");
@@ -196,20 +193,7 @@ TEUCHOS_UNIT_TEST(RigidBodies, RefusesBadRigidBodies) {
       {"bad table", "Bodies/platen/Table", "",
        [](ParameterList& d) { d.sublist("Bodies").sublist("platen").set("Table", "0, 0; 0, 1"); }},
   };
-  for (const Case& c : cases) {
-    ParameterList d = deckOf("platen_compression_rigid_explicit_gimp.yaml");
-    c.edit(d);
-    std::string message;
-    try {
-      impm::validateDeck(d);
-      impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/rigid_bad");
-    } catch (const impm::DeckError& e) {
-      message = e.what();
-    }
-    out << c.what << ": " << message << "\n";
-    TEST_ASSERT(message.find("'" + c.key) != std::string::npos);
-    TEST_ASSERT(message.find(c.message) != std::string::npos);
-  }
+  impm_test::checkRefusals(deckOf("platen_compression_rigid_explicit_gimp.yaml"), cases, "test_output/rigid_bad", out, success);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "core/InputDeck.hpp"
 #include "solvers/Simulation.hpp"
 #include "solvers/build/Deck.hpp"
+#include "DeckRefusals.hpp"
 
 namespace {
 
@@ -39,6 +40,15 @@ ParameterList deckOf(const std::string& name) {
 }
 
 // The mean of the history column over the rows with time in [t0, t1].
+// The lowest particle centre's y over all ranks.
+double lowestParticleY(const impm::ParticleSet& ps) {
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+  double local = 1e300, global = 0;
+  for (int p = 0; p < ps.count; ++p) local = std::min(local, x(p, 1));
+  Teuchos::reduceAll(*Tpetra::getDefaultComm(), Teuchos::REDUCE_MIN, local, Teuchos::outArg(global));
+  return global;
+}
+
 double meanOver(const impm::RunResult& r, const std::vector<double>& column, double t0, double t1) {
   double sum = 0;
   int n = 0;
@@ -141,10 +151,7 @@ TEUCHOS_UNIT_TEST(Walls, FloorHoldsTheNodesOfASymmetryPlane) {
     std::ostringstream log;
     const impm::RunResult r = sim.run(log);
     TEST_EQUALITY_CONST(r.status, "completed");
-    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().x);
-    double local = 1e300, global = 0;
-    for (int p = 0; p < sim.particles().count; ++p) local = std::min(local, x(p, 1));
-    Teuchos::reduceAll(*Tpetra::getDefaultComm(), Teuchos::REDUCE_MIN, local, Teuchos::outArg(global));
+    const double global = lowestParticleY(sim.particles());
     out << "step " << steps << ": lowest particle centre " << global / 2.5e-3 << " h\n";
     lowest = std::min(lowest, global);
   }
@@ -206,10 +213,7 @@ TEUCHOS_UNIT_TEST(Walls, ImplicitFloorCarriesRestingBlock) {
   const impm::RunResult r = sim.run(log);
   TEST_EQUALITY_CONST(r.status, "completed");
   if (r.status != "completed") return;
-  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().x);
-  double local = 1e300, lowest = 0;
-  for (int p = 0; p < sim.particles().count; ++p) local = std::min(local, x(p, 1));
-  Teuchos::reduceAll(*Tpetra::getDefaultComm(), Teuchos::REDUCE_MIN, local, Teuchos::outArg(lowest));
+  const double lowest = lowestParticleY(sim.particles());
   const double M = 1000 * 0.04 * 0.01, g = 10.0, normal = r.reactions.at("floor_reaction_y").back();
   out << "implicit resting block: floor force " << normal << " N (M g = " << M * g << "), lowest particle centre "
       << lowest << " m\n";
@@ -219,11 +223,7 @@ TEUCHOS_UNIT_TEST(Walls, ImplicitFloorCarriesRestingBlock) {
 
 // Each refusal: one DeckError naming the key.
 TEUCHOS_UNIT_TEST(Walls, RefusesBadWalls) {
-  struct Case {
-    std::string what, key, message;
-    std::function<void(ParameterList&)> edit;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<impm_test::DeckRefusal> cases = {
       {"off the grid lines", "Walls/wall/Position", "is not on a grid line",
        [](ParameterList& d) { d.sublist("Walls").sublist("wall").set("Position", 1e-3); }},
       {"negative friction", "Walls/wall/Friction", "must be a finite coefficient >= 0",
@@ -243,20 +243,7 @@ TEUCHOS_UNIT_TEST(Walls, RefusesBadWalls) {
       {"z normal in 2D", "Walls/wall/Normal", "needs 'Grid/Dimension' = 3",
        [](ParameterList& d) { d.sublist("Walls").sublist("wall").set("Normal", "z+"); }},
   };
-  for (const Case& c : cases) {
-    ParameterList d = deckOf("bar_wall_impact_explicit_gimp.yaml");
-    c.edit(d);
-    std::string message;
-    try {
-      impm::validateDeck(d);
-      impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/walls_bad");
-    } catch (const impm::DeckError& e) {
-      message = e.what();
-    }
-    out << c.what << ": " << message << "\n";
-    TEST_ASSERT(message.find("'" + c.key) != std::string::npos);
-    TEST_ASSERT(message.find(c.message) != std::string::npos);
-  }
+  impm_test::checkRefusals(deckOf("bar_wall_impact_explicit_gimp.yaml"), cases, "test_output/walls_bad", out, success);
 }
 
 }  // namespace
