@@ -2,6 +2,7 @@
 
 #include <Teuchos_CommHelpers.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -89,12 +90,10 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   wallNode_ = toDevice(wallNodes, "wall_nodes");
   wallOf_ = toDevice(wallOf, "wall_of_node");
   wallFree_ = toDevice(wallFree, "wall_free_components");
-  wallHeld_ = Kokkos::View<int*, DeviceType>("wall_held", wallNodes.size());
-  wallDecided_ = Kokkos::View<int*, DeviceType>("wall_decided", wallNodes.size());
   wallForce_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_node_force", wallNodes.size(), 3);
+  const bool frictional = std::any_of(walls.begin(), walls.end(), [](const WallSpec& w) { return w.friction > 0.0; });
+  implicitWalls_ = ImplicitWallContact(wallNode_, wallOf_, wallFree_, wallParams_, wallForce_, g.dim, frictional);
 }
-
-void GridConditions::beginImplicitWallStep() { Kokkos::deep_copy(wallDecided_, 0); }
 
 void GridConditions::sumWallReactions() {
   auto force = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), wallForce_);

@@ -10,13 +10,14 @@
 //                   prescribed dofs recorded as the reaction -> g2p
 // A dof named by two conditions belongs to the first (the deck refuses two different motions).
 //
-// Rigid walls (explicit): a wall is the plane x_axis = position with the bodies on one side. A grid
+// Rigid walls: a wall is the plane x_axis = position with the bodies on one side. Explicit: a grid
 // node on or behind it that would move into it after the grid update loses that normal velocity
 // (and gains nothing if it moves away: contact is one-sided), and Coulomb friction takes off at
 // most `friction` times the normal velocity change from its tangential velocity (stopping it when
 // that suffices); its reaction is m dv / dt. A wall changes only the components no constraint
 // prescribes at the node (a symmetry plane's nodes still meet a wall across it), and leaves a node
-// whose normal component is prescribed alone.
+// whose normal component is prescribed alone. Implicit: an active set with friction
+// (physics/ImplicitWallContact.hpp).
 #pragma once
 
 #include <algorithm>
@@ -27,6 +28,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "physics/Constraints.hpp"
+#include "physics/ImplicitWallContact.hpp"
 #include "physics/MultiFieldContact.hpp"
 
 namespace impm {
@@ -128,75 +130,23 @@ class GridConditions {
     if (hasWalls()) wallContact<ExecSpace>(sums, massCol, sumsStride_, vel, velCol, -1, velStride, false);
   }
 
-  // Implicit walls: a frictionless active set. Each step starts by holding a wall node's normal
-  // component (not an unknown: no displacement into the wall) where the node has mass and its
-  // start motion, v + dt a / 2, does not leave the wall; after a converged solve,
-  // reviseImplicitWallContacts releases held components the wall pulls and holds free ones that
-  // moved into it, and the step is solved again until nothing changes. A held component ends the
-  // step at rest: its velocity change is -v (FLIP particles receive the stop, as in the explicit
-  // step), and its reaction is the force that stops it, -m v / dt - F_int - F_ext.
-  void beginImplicitWallStep();
-  // Marks the free components of the implicit grid state s (columns freeCol..): a held wall
-  // component is not free, any other wall component is free where the node's mass exceeds cutoff.
-  template <class ExecSpace, class StateView>
-  void holdImplicitWallContacts(const StateView& s, int massCol, int velCol, int accCol, int freeCol, double cutoff,
-                                double dt) const {
-    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto held = wallHeld_; auto decided = wallDecided_;
-    Kokkos::parallel_for(
-        "implicit_wall_hold", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          const int n = node(k), axis = (int)params(wall(k), 0);
-          const double side = params(wall(k), 1);
-          const bool massive = s(n, massCol) > cutoff;
-          const bool hold = massive && (decided(k) != 0 ? decided(k) > 0
-                                                        : side * (s(n, velCol + axis) + 0.5 * dt * s(n, accCol + axis)) <= 0.0);
-          held(k) = hold ? 1 : 0;
-          s(n, freeCol + axis) = massive && !hold ? 1.0 : 0.0;
-        });
-  }
-  // After a converged solve (owned displacement d at uCol.., reactionAt(n, d) the held reaction):
-  // the number of wall components this rank changes (released or held) for the next solve.
-  template <class ExecSpace, class DispView, class ReactionAt>
-  int reviseImplicitWallContacts(const DispView& d, int uCol, const ReactionAt& reactionAt, double tolerance) {
-    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto held = wallHeld_; auto decided = wallDecided_;
-    int changes = 0;
-    Kokkos::parallel_reduce(
-        "implicit_wall_revise", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)),
-        KOKKOS_LAMBDA(int k, int& count) {
-          const int n = node(k), axis = (int)params(wall(k), 0);
-          const double side = params(wall(k), 1);
-          if (held(k) && side * reactionAt(n, axis) < 0.0) {  // the wall pulls: let go
-            decided(k) = -1;
-            ++count;
-          } else if (!held(k) && side * d(n, uCol + axis) < -tolerance) {  // into the wall: hold
-            decided(k) = 1;
-            ++count;
-          }
-        },
-        changes);
-    return changes;
-  }
-  // After the last solve: the held components' reactions, summed per wall.
+  // Implicit walls: an active set with Coulomb friction (physics/ImplicitWallContact.hpp), driven
+  // by the implicit step; recordImplicitWallReactions and rubImplicitWalls sum its forces per wall.
+  ImplicitWallContact& implicitWalls() { return implicitWalls_; }
+  const ImplicitWallContact& implicitWalls() const { return implicitWalls_; }
   template <class ExecSpace, class ReactionAt>
   void recordImplicitWallReactions(const ReactionAt& reactionAt) {
-    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto held = wallHeld_; auto force = wallForce_;
-    Kokkos::parallel_for(
-        "implicit_wall_reaction", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          const int n = node(k), axis = (int)params(wall(k), 0);
-          for (int c = 0; c < 3; ++c) force(k, c) = held(k) && c == axis ? reactionAt(n, axis) : 0.0;
-        });
+    implicitWalls_.record<ExecSpace>(reactionAt);
     sumWallReactions();
   }
-  // The held components' end of step: at rest (velocity change -v, acceleration -v / dt).
-  template <class ExecSpace, class DispView, class StateView>
-  void stopImplicitWallContacts(const DispView& d, int anewCol, int dvCol, const StateView& s, int velCol, double dt) const {
-    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto held = wallHeld_;
-    Kokkos::parallel_for(
-        "implicit_wall_stop", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          if (!held(k)) return;
-          const int n = node(k), axis = (int)params(wall(k), 0);
-          d(n, dvCol + axis) = -s(n, velCol + axis);
-          d(n, anewCol + axis) = -s(n, velCol + axis) / dt;
-        });
+  // The friction of the held nodes at the step's end (ImplicitWallContact::rub), its forces added
+  // to the walls' reactions.
+  template <class ExecSpace, class DispView, class StateView, class ReactionAt>
+  void rubImplicitWalls(const DispView& d, int anewCol, int dvCol, const StateView& s, int massCol, int velCol,
+                        const ReactionAt& reactionAt, double dt, double gamma) {
+    if (!implicitWalls_.frictional()) return;
+    implicitWalls_.rub<ExecSpace>(d, anewCol, dvCol, s, massCol, velCol, reactionAt, dt, gamma);
+    sumWallReactions();
   }
 
   // Multi-field contact: the number of grid velocity fields (1 without contact), each body's
@@ -288,10 +238,8 @@ class GridConditions {
   std::vector<WallSpec> walls_;
   Kokkos::View<int*, DeviceType> wallNode_, wallOf_;
   Kokkos::View<int*, DeviceType> wallFree_;  // per wall node: bit d set when the wall may change component d
-  // Implicit walls, per wall node: held in this solve (1), and the step's decision from an earlier
-  // solve (1 hold, -1 release, 0 by the start motion).
-  Kokkos::View<int*, DeviceType> wallHeld_, wallDecided_;
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> wallParams_, wallForce_;
+  ImplicitWallContact implicitWalls_;
   MultiFieldContact contact_;
   int sumsStride_ = 0, kinStride_ = 0;
   double dt_ = 0.0;

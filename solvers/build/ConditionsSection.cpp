@@ -71,12 +71,13 @@ RCP<const ParameterList> build::wallsTemplate() {
   choice(*pl, "Normal", "y+", {"x+", "x-", "y+", "y-", "z+", "z-"},
          "the direction from the wall into the bodies: y+ is a floor under them, x- a wall on their right (z+, z- "
          "in 3D). Contact is one-sided: a grid node on or behind the wall loses the velocity that would take it "
-         "into the wall and keeps the velocity that takes it away. Implicit: frictionless, as an active set (a held "
-         "node's normal component is not an unknown; see the user guide)");
+         "into the wall and keeps the velocity that takes it away. Implicit: an active set (a held node's normal "
+         "component is not an unknown; with friction a stuck node's tangential ones neither; see the user guide)");
   number(*pl, "Position", 0.0, "the wall's coordinate along its normal axis (m; on a grid line inside the grid)");
   number(*pl, "Friction", 0.0,
          "Coulomb friction coefficient mu >= 0 between the wall and the bodies: a node in contact loses at most mu "
-         "times its normal velocity change from its tangential velocity (0: frictionless; implicit walls: 0 only). The force the wall "
+         "times its normal velocity change from its tangential velocity (implicit: slips under the force mu N where "
+         "holding it would take more; 0: frictionless). The force the wall "
          "applies to the grid is in history.csv (<name>_reaction_<x|y|z>) and summary.yaml (Reactions)");
   return pl;
 }
@@ -336,7 +337,7 @@ long long Simulation::particlesReaching(const Point& lo, const Point& hi) const 
 }
 
 // The rigid walls: a normal along the grid's axes, the plane on a grid line inside the grid, a
-// friction coefficient of at least zero; explicit integrator only.
+// friction coefficient of at least zero; material points (not the finite-element reference).
 std::vector<WallSpec> Simulation::buildWalls() const {
   std::vector<WallSpec> walls;
   const ParameterList& ws = deck_.sublist("Walls");
@@ -364,9 +365,6 @@ std::vector<WallSpec> Simulation::buildWalls() const {
     spec.friction = w.get<double>("Friction");
     if (!(spec.friction >= 0) || !std::isfinite(spec.friction))
       throw DeckError("'" + key + "/Friction' must be a finite coefficient >= 0, got " + formatNumber(spec.friction));
-    if (implicit && spec.friction != 0.0)
-      throw DeckError("'" + key + "/Friction' = " + formatNumber(spec.friction) +
-                      ": walls in the implicit step are frictionless; set it to 0 or 'Integrator/Type' = Explicit");
     walls.push_back(spec);
   }
   return walls;

@@ -135,7 +135,6 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void finishStep(const Vector& u);      // grid and particle update with the converged u
   bool reviseWallContacts(const Vector& u);  // walls: release / hold components; true if any changed
   auto heldWallReaction() const;
-  static constexpr int kWallSolves = 5;
   void gridUpdate();                     // a_new and the velocity increment on the grid
   void updateParticles();                // stress, then x, v, a of the particles
   void recordReactions(const Vector& u); // the grid conditions' reactions: the residual at their dofs

@@ -190,8 +190,10 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
   conditions_.template write<Exec>(s, SC::VelX, PrescribedField::StartVelocity);
   conditions_.template write<Exec>(s, SC::AccX, PrescribedField::StartAcceleration);
   conditions_.template write<Exec>(s, SC::FreeX, PrescribedField::Zero);
-  if (conditions_.hasWalls())
-    conditions_.template holdImplicitWallContacts<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt);
+  if (conditions_.hasWalls()) {
+    const ImplicitWallContact& walls = conditions_.implicitWalls();
+    walls.template hold<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt);
+  }
 }
 
 // The lumped projection v_i = sum m_p S_ip v_p / m_i smooths the grid state every step (by
@@ -313,14 +315,25 @@ bool ImplicitNewmark<Shape, Dim>::reviseWallContacts(const Vector& u) {
   Vector R(dofs_.map(), false);
   residual(u, R);  // the forces at u, and u in the grid displacement
   const double tolerance = 1e-9 * dist_.grid().spacing(0);
-  const int local = conditions_.template reviseImplicitWallContacts<Exec>(
-      dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly), DC::UX, heldWallReaction(), tolerance);
+  const ImplicitWallContact& walls = conditions_.implicitWalls();
+  int local = 0;
+  {
+    const auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const NewmarkConstants k(opt_.newmark, dt_);
+    const double c1 = k.c1, c2 = k.c2, c3 = k.c3, dt = k.dt, gamma = k.gamma;
+    const auto endVelocity = KOKKOS_LAMBDA(int n, int c) {  // v + dt ((1 - gamma) a + gamma a_new)
+      const double v = s(n, SC::VelX + c), a = s(n, SC::AccX + c);
+      return v + dt * ((1 - gamma) * a + gamma * (c1 * d(n, DC::UX + c) - c2 * v - c3 * a));
+    };
+    local = walls.template revise<Exec>(d, DC::UX, s, SC::Mass, heldWallReaction(), endVelocity, dt, tolerance);
+  }
   int changes = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
   if (changes == 0) return false;
   {
     auto st = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    conditions_.template holdImplicitWallContacts<Exec>(st, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, massCutoff_, dt_);
+    walls.template hold<Exec>(st, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, massCutoff_, dt_);
   }
   stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
   PCurrent_ = false;
@@ -456,7 +469,10 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
         });
     conditions_.template write<Exec>(d, DC::AnewX, PrescribedField::Acceleration);
     conditions_.template write<Exec>(d, DC::DvX, PrescribedField::VelocityChange);
-    if (conditions_.hasWalls()) conditions_.template stopImplicitWallContacts<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt);
+    if (conditions_.hasWalls()) {
+      conditions_.implicitWalls().template stop<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt);
+      conditions_.template rubImplicitWalls<Exec>(d, DC::AnewX, DC::DvX, s, SC::Mass, SC::VelX, heldWallReaction(), dt, gamma);
+    }
   }
   if (!opt_.fixedParticles) return;
   auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
@@ -520,10 +536,10 @@ template <class Shape, int Dim>
 StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt) {
   using clock = std::chrono::steady_clock;
   auto t0 = clock::now();
-  if (conditions_.hasWalls()) conditions_.beginImplicitWallStep();
+  if (conditions_.hasWalls()) conditions_.implicitWalls().beginStep();
   setUpStep(t, dt);
   // With walls, the solve is repeated until the held wall components settle (at most
-  // kWallSolves solves; the last one stands).
+  // ImplicitWallContact::maxSolves() solves; the last one stands).
   Teuchos::RCP<Vector> u;
   NewtonResult result;
   auto t2 = t0;
@@ -539,7 +555,7 @@ StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt)
                               std::chrono::duration<double>(t2 - t1).count());
     if (!result.converged) return {false, result.newtonIterations, result.reason};
     t0 = clock::now();
-    if (!conditions_.hasWalls() || solve >= kWallSolves || !reviseWallContacts(*u)) break;
+    if (!conditions_.hasWalls() || solve >= ImplicitWallContact::maxSolves() || !reviseWallContacts(*u)) break;
   }
   finishStep(*u);
   statistics_.recordStep(result, std::chrono::duration<double>(clock::now() - t2).count());
