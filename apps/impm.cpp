@@ -26,6 +26,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -37,6 +38,19 @@
 #include "core/FloatingPoint.hpp"
 
 namespace {
+// plot_history.py: $IMPM_PLOT_SCRIPT; else the installed one, found from this executable
+// (<prefix>/bin/impm -> <prefix>/share/impm/plot_history.py); else the source tree's.
+std::string plotScript() {
+  if (const char* env = std::getenv("IMPM_PLOT_SCRIPT")) return env;
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = (exe.parent_path() / IMPM_PLOT_SCRIPT_FROM_BIN).lexically_normal();
+    if (std::filesystem::is_regular_file(installed, ec)) return installed.string();
+  }
+  return IMPM_PLOT_SCRIPT;
+}
+
 void usage(std::ostream& os) {
   os << "usage: impm DECK.{yaml,xml} [--output DIR] [--restart CHECKPOINT_DIR] [--timers]\n"
         "       impm --help | --print-defaults\n";
@@ -99,8 +113,7 @@ int main(int argc, char** argv) {
     // plot.png: computed against exact for each monitor, and the energies when recorded.
     const auto& out = deck->sublist("Output");
     if (root && out.get<bool>("Plot") && (sim.hasExact() || out.get<bool>("Energy And Momentum"))) {
-      const char* env = std::getenv("IMPM_PLOT_SCRIPT");
-      const std::string script = env ? env : IMPM_PLOT_SCRIPT;
+      const std::string script = plotScript();
       const std::string title = deck->sublist("Problem").get<std::string>("Name");
       const std::string cmd = "/usr/bin/python3 '" + script + "' '" + sim.outputDirectory() + "' --title '" + title + "'";
       if (std::system(cmd.c_str()) != 0) std::cout << "  warning: the plot could not be written (" << cmd << ")\n";

@@ -10,9 +10,10 @@ export OMP_PROC_BIND=false
 # Waiting OpenMP threads sleep instead of spinning, so that the suite keeps its pace on a loaded
 # machine (ctest sets it for each test too; see test/CMakeLists.txt and doc/user-guide.md, "Tests").
 export OMP_WAIT_POLICY=passive
-# The verification label (reduced report and refinement studies, a few minutes) runs once, at
-# 2 threads; everything else runs at 1 and at 2 threads.
-echo "== ctest, OMP_NUM_THREADS=1 (all but the verification label)"
-OMP_NUM_THREADS=1 ctest --output-on-failure -LE verification "$@"
+# The verification label (reduced report and refinement studies, a few minutes) and the install
+# label (install, then build and run a consumer project) run once, at 2 threads; everything else
+# runs at 1 and at 2 threads.
+echo "== ctest, OMP_NUM_THREADS=1 (all but the verification and install labels)"
+OMP_NUM_THREADS=1 ctest --output-on-failure -LE "verification|install" "$@"
 echo "== ctest, OMP_NUM_THREADS=2"
 OMP_NUM_THREADS=2 ctest --output-on-failure "$@"

@@ -27,7 +27,7 @@ struct ConstraintSpec {
   // Displacement: u_d(t) = value[d] f(t) from the start of the run.
   enum class Motion { Fixed, Velocity, Displacement } motion = Motion::Fixed;
   double value[3] = {0, 0, 0};
-  TimeFunction time{TimeFunction::Kind::Constant};
+  TimeFunction time{TimeFunction::Kind::Constant, 0.0, 0.0, 0.0, {}};
   // The same motion of component d (for two conditions that share a dof).
   bool sameMotion(const ConstraintSpec& o, int d) const {
     const bool stillHere = motion == Motion::Fixed || value[d] == 0.0;

@@ -32,7 +32,7 @@ ParameterList blockDeck(double beta, double gamma) {
   return d;
 }
 
-impm::RunResult run(ParameterList d, impm::Simulation** keep = nullptr) {
+impm::RunResult run(ParameterList d) {
   impm::validateDeck(d);
   impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/newmark");
   std::ostringstream log;

@@ -72,7 +72,7 @@ void checkEntry(const ParameterList& deck, const ParameterList& valid, const std
       auto strings = validator->validStringValues();
       if (strings != Teuchos::null) {
         msg += " (valid: ";
-        for (size_t k = 0; k < strings->size(); ++k) msg += (k ? ", " : "") + (*strings)[k];
+        for (size_t k = 0; k < static_cast<size_t>(strings->size()); ++k) msg += (k ? ", " : "") + (*strings)[k];
         msg += ")";
       } else {
         msg += " (expected a number)";
