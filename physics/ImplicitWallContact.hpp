@@ -14,8 +14,11 @@
 // friction could stop it within the step, m |v_t| <= mu N dt with v_t its tangential end
 // velocity and N its normal reaction in that solve: its tangential components are then held (at
 // rest at the step's end), and their reaction F_t is the force that keeps it in place; and lets
-// a stuck node slip for good where |F_t| > mu N. Each node changes at most twice per step, so the
-// solves end. A node still slipping after the last solve is rubbed as the explicit wall rubs it:
+// a stuck node slip for good where |F_t| > mu N: its tangential components are unknowns again,
+// loaded in the residual by the friction force mu N F_t / |F_t| of that solve (a constant load,
+// so the preconditioner is unchanged), so that the nodes still stuck do not carry its share.
+// Each node changes at most twice per step, so the solves end. A node that slips from the first
+// solve to the last is rubbed after it as the explicit wall rubs it:
 // its tangential end velocity loses at most mu N dt / m, its new acceleration follows
 // (da = dv / (gamma dt)), the particles receive the velocity change (FLIP), and the force is
 // m dv / dt. Newton sees no kink (stuck components are prescribed, slipping ones free); the price
@@ -43,7 +46,8 @@ class ImplicitWallContact {
   // wall (axis, side, mu); `force` receives each wall node's reaction.
   ImplicitWallContact(IntView node, IntView wall, IntView freeMask, Table params, Table force, int dim, bool frictional)
       : node_(node), wall_(wall), mask_(freeMask), params_(params), force_(force), dim_(dim), frictional_(frictional),
-        held_("wall_held", node.extent(0)), decided_("wall_decided", node.extent(0)), slip_("wall_slip", node.extent(0)) {}
+        held_("wall_held", node.extent(0)), decided_("wall_decided", node.extent(0)), slip_("wall_slip", node.extent(0)),
+        friction_("wall_friction", node.extent(0), 3), load_("wall_external_load", node.extent(0), 3) {}
 
   bool frictional() const { return frictional_; }
   // The solves a step may take before its last one stands.
@@ -53,6 +57,37 @@ class ImplicitWallContact {
   void beginStep() {
     Kokkos::deep_copy(decided_, 0);
     Kokkos::deep_copy(slip_, kSlips);
+    Kokkos::deep_copy(friction_, 0.0);
+  }
+
+  // The external force F_ext (columns fextCol..) at the wall nodes before any friction (frictional
+  // walls only), kept so that loadFriction() can add the friction of the nodes that slip for good.
+  template <class ExecSpace, class StateView>
+  void keepLoads(const StateView& s, int fextCol) const {
+    if (!frictional_) return;
+    auto node = node_; auto load = load_;
+    const int dim = dim_;
+    Kokkos::parallel_for(
+        "implicit_wall_keep_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          for (int c = 0; c < dim; ++c) load(k, c) = s(node(k), fextCol + c);
+        });
+  }
+
+  // F_ext at the wall nodes = the kept loads + the friction of the nodes that slip for good.
+  template <class ExecSpace, class StateView>
+  void loadFriction(const StateView& s, int fextCol) const {
+    if (!frictional_) return;
+    auto node = node_; auto load = load_; auto friction = friction_;
+    const int dim = dim_;
+    Kokkos::parallel_for(
+        "implicit_wall_reset_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          for (int c = 0; c < dim; ++c) s(node(k), fextCol + c) = load(k, c);
+        });
+    Kokkos::parallel_for(
+        "implicit_wall_friction_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          for (int c = 0; c < dim; ++c)
+            if (friction(k, c) != 0.0) Kokkos::atomic_add(&s(node(k), fextCol + c), friction(k, c));
+        });
   }
 
   // Marks the free components of the implicit grid state s (columns freeCol..): a held wall
@@ -98,7 +133,7 @@ class ImplicitWallContact {
   int revise(const DispView& d, int uCol, const StateView& s, int massCol, const ReactionAt& reactionAt,
              const EndVelocityAt& endVelocityAt, double dt, double tolerance) const {
     auto node = node_; auto wall = wall_; auto params = params_; auto held = held_; auto decided = decided_;
-    auto mask = mask_; auto slip = slip_;
+    auto mask = mask_; auto slip = slip_; auto friction = friction_;
     const int dim = dim_;
     int changes = 0;
     Kokkos::parallel_reduce(
@@ -122,6 +157,9 @@ class ImplicitWallContact {
               }
             if (slip(k) == kStuck && t2 > limit * limit) {  // holding takes more than mu N
               slip(k) = kSlipsForGood;
+              const double ratio = limit / std::sqrt(t2);
+              for (int c = 0; c < dim; ++c)
+                if (c != axis && (mask(k) >> c) & 1) friction(k, c) = ratio * reactionAt(n, c);
               ++count;
             } else if (slip(k) == kSlips && t2 <= limit * limit) {  // friction stops it
               slip(k) = kStuck;
@@ -138,7 +176,7 @@ class ImplicitWallContact {
   template <class ExecSpace, class ReactionAt>
   void record(const ReactionAt& reactionAt) const {
     auto node = node_; auto wall = wall_; auto params = params_; auto held = held_; auto force = force_;
-    auto mask = mask_; auto slip = slip_;
+    auto mask = mask_; auto slip = slip_; auto friction = friction_;
     const int dim = dim_;
     Kokkos::parallel_for(
         "implicit_wall_reaction", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -146,7 +184,7 @@ class ImplicitWallContact {
           const bool stuckNode = stuck(held, slip, params, wall, k);
           for (int c = 0; c < 3; ++c) {
             const bool heldComponent = held(k) && (c == axis || (stuckNode && c < dim && ((mask(k) >> c) & 1)));
-            force(k, c) = heldComponent ? reactionAt(n, c) : 0.0;
+            force(k, c) = heldComponent ? reactionAt(n, c) : held(k) && slip(k) == kSlipsForGood ? friction(k, c) : 0.0;
           }
         });
   }
@@ -171,7 +209,7 @@ class ImplicitWallContact {
         });
   }
 
-  // Friction on the slipping nodes' end-of-step motion (see the file comment): the new acceleration
+  // Friction on the end-of-step motion of the nodes that slipped in every solve (see the file comment): the new acceleration
   // (anewCol..) and velocity change (dvCol..) in d, the start velocity and mass in s,
   // reactionAt(n, axis) the held normal reaction N; each node's friction force goes into its
   // tangential reaction.
@@ -187,7 +225,7 @@ class ImplicitWallContact {
           const int n = node(k), axis = (int)params(wall(k), 0);
           const double side = params(wall(k), 1), mu = params(wall(k), 2), m = s(n, massCol);
           const double normal = side * reactionAt(n, axis);
-          if (!held(k) || slip(k) == kStuck || mu <= 0.0 || !(normal > 0.0) || !(m > 0.0)) return;
+          if (!held(k) || slip(k) != kSlips || mu <= 0.0 || !(normal > 0.0) || !(m > 0.0)) return;
           double vt2 = 0.0;
           for (int c = 0; c < dim; ++c)
             if (c != axis && (mask(k) >> c) & 1) {
@@ -222,8 +260,10 @@ class ImplicitWallContact {
   int dim_ = 2;
   bool frictional_ = false;
   // Per wall node: held in this solve (1); the step's decision from an earlier solve (1 hold, -1
-  // release, 0 by the start motion); the tangential state in this step.
+  // release, 0 by the start motion); the tangential state in this step; the friction force of a
+  // node that slips for good; F_ext before friction.
   IntView held_, decided_, slip_;
+  Table friction_, load_;
 };
 
 }  // namespace impm

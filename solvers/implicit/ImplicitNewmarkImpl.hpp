@@ -192,6 +192,7 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
   conditions_.template write<Exec>(s, SC::FreeX, PrescribedField::Zero);
   if (conditions_.hasWalls()) {
     const ImplicitWallContact& walls = conditions_.implicitWalls();
+    walls.template keepLoads<Exec>(s, SC::FextX);
     walls.template hold<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt);
   }
 }
@@ -333,6 +334,7 @@ bool ImplicitNewmark<Shape, Dim>::reviseWallContacts(const Vector& u) {
   if (changes == 0) return false;
   {
     auto st = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+    walls.template loadFriction<Exec>(st, SC::FextX);
     walls.template hold<Exec>(st, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, massCutoff_, dt_);
   }
   stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
