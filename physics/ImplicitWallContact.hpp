@@ -1,5 +1,6 @@
 // Rigid walls in the implicit step: an active set on the normal component, and Coulomb friction
-// on the held nodes' end-of-step motion (GridConditions owns one; ImplicitNewmark drives it).
+// as a stick/slip set with the sliding rub applied after the solve (GridConditions owns one;
+// ImplicitNewmark drives it).
 //
 // Normal. Each step starts by holding a wall node's normal component (not an unknown: no
 // displacement into the wall) where the node has mass and its start motion, v + dt a / 2, does not
@@ -26,7 +27,8 @@
 // sees the sliding friction only through the velocities it leaves (test_walls: a block sliding
 // to a stop, 1.2% of its velocity at dt = 100 explicit steps, 0.6% at 50). The step's
 // displacement is the solve's: moving a rubbed node by Newmark's beta dt / gamma dv as well
-// strained the layer above a light node by order one.
+// strained the layer above a light node by order one. Within some 30% of the stick threshold the
+// set does not settle in maxSolves() solves and a block creeps (user guide, limitations).
 #pragma once
 
 #include <Kokkos_Core.hpp>
