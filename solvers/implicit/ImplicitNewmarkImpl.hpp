@@ -322,12 +322,11 @@ bool ImplicitNewmark<Shape, Dim>::reviseWallContacts(const Vector& u) {
     const auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     const auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     const NewmarkConstants k(opt_.newmark, dt_);
-    const double c1 = k.c1, c2 = k.c2, c3 = k.c3, dt = k.dt, gamma = k.gamma;
-    const auto endVelocity = KOKKOS_LAMBDA(int n, int c) {  // v + dt ((1 - gamma) a + gamma a_new)
+    const auto endVelocity = KOKKOS_LAMBDA(int n, int c) {
       const double v = s(n, SC::VelX + c), a = s(n, SC::AccX + c);
-      return v + dt * ((1 - gamma) * a + gamma * (c1 * d(n, DC::UX + c) - c2 * v - c3 * a));
+      return v + k.velocityChange(a, k.newAcceleration(d(n, DC::UX + c), v, a));
     };
-    local = walls.template revise<Exec>(d, DC::UX, s, SC::Mass, heldWallReaction(), endVelocity, dt, tolerance);
+    local = walls.template revise<Exec>(d, DC::UX, s, SC::Mass, heldWallReaction(), endVelocity, k.dt, tolerance);
   }
   int changes = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
@@ -455,7 +454,7 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
   using SC = implicit::StateColumns<Dim>;
   using DC = implicit::DisplacementColumns<Dim>;
   const NewmarkConstants k(opt_.newmark, dt_);
-  const double c1 = k.c1, c2 = k.c2, c3 = k.c3, dt = k.dt, gamma = k.gamma;
+  const double dt = k.dt, gamma = k.gamma;
   {
     auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
@@ -464,9 +463,9 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
           for (int c = 0; c < Dim; ++c) {
             const bool free = s(n, SC::FreeX + c) > 0.5;
             const double a = s(n, SC::AccX + c);
-            const double aNew = free ? c1 * d(n, DC::UX + c) - c2 * s(n, SC::VelX + c) - c3 * a : 0.0;
+            const double aNew = free ? k.newAcceleration(d(n, DC::UX + c), s(n, SC::VelX + c), a) : 0.0;
             d(n, DC::AnewX + c) = aNew;
-            d(n, DC::DvX + c) = free ? dt * ((1 - gamma) * a + gamma * aNew) : 0.0;
+            d(n, DC::DvX + c) = free ? k.velocityChange(a, aNew) : 0.0;
           }
         });
     conditions_.template write<Exec>(d, DC::AnewX, PrescribedField::Acceleration);

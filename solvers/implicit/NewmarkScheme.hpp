@@ -5,6 +5,8 @@
 // the highest frequencies (most with beta = (gamma + 1/2)^2 / 4).
 #pragma once
 
+#include <Kokkos_Macros.hpp>
+
 namespace impm {
 
 struct NewmarkScheme {
@@ -20,6 +22,10 @@ struct NewmarkConstants {
   double c1, c2, c3, dt, gamma;
   NewmarkConstants(const NewmarkScheme& s, double stepSize)
       : c1(s.c1(stepSize)), c2(s.c2(stepSize)), c3(s.c3()), dt(stepSize), gamma(s.gamma) {}
+  // a_new of a component that moved by u over the step from v, a.
+  KOKKOS_INLINE_FUNCTION double newAcceleration(double u, double v, double a) const { return c1 * u - c2 * v - c3 * a; }
+  // v_new - v = dt ((1 - gamma) a + gamma a_new).
+  KOKKOS_INLINE_FUNCTION double velocityChange(double a, double aNew) const { return dt * ((1 - gamma) * a + gamma * aNew); }
 };
 
 }  // namespace impm
