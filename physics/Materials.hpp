@@ -14,8 +14,8 @@
 //   tangent<Dim>(m, G, J, h, D)       dsigma/deps on the Voigt strains (2D: xx, yy, 2xy), for
 //                                     K = int B^T D B over the current volume (J = V / V0), at
 //                                     the state of stress<Dim> after the increment G from the
-//                                     history h (J2: the consistent tangent of its return map)
-//   tangent<Dim>(m, J, D)             the same without the particle's state (J2: elastic)
+//                                     history h (J2, Drucker-Prager: the consistent tangent of the return map)
+//   tangent<Dim>(m, J, D)             the same without the particle's state (J2, Drucker-Prager: elastic)
 //   energyDensity<Dim>(m, s, F, h)    (elastic) strain energy per unit current volume
 #pragma once
 
@@ -28,6 +28,7 @@
 
 #include "core/ParticleSet.hpp"
 #include "core/Types.hpp"
+#include "physics/materials/DruckerPragerModel.hpp"
 #include "physics/materials/J2PlasticityModel.hpp"
 #include "physics/materials/LinearElasticModel.hpp"
 #include "physics/materials/NeoHookeanModel.hpp"
@@ -37,7 +38,7 @@ namespace impm {
 // The 2D idealisations, and Solid for 3D.
 enum class PlaneCondition { PlaneStrain, PlaneStress, Solid };
 
-enum class MaterialModel { LinearElastic = 0, NeoHookean = 1, J2Plasticity = 2 };
+enum class MaterialModel { LinearElastic = 0, NeoHookean = 1, J2Plasticity = 2, DruckerPrager = 3 };
 
 // One material's parameters, as the deck gives them. Neo-Hookean and J2 take their Lame
 // constants from E and nu (the small-strain limit of both is the linear law).
@@ -45,22 +46,33 @@ struct MaterialParameters {
   double E = 1.0, nu = 0.0, density = 1.0;
   MaterialModel model = MaterialModel::LinearElastic;
   double yieldStress = 0.0, hardening = 0.0;  // J2: sigma_y (> 0) and the isotropic modulus H (>= 0)
+  // Drucker-Prager: c_0 (>= 0), the friction and dilatancy angles (degrees), the Mohr-Coulomb
+  // match, the cohesion's modulus H (negative: softening) and the residual cohesion c_r.
+  double cohesion = 0.0, frictionAngle = 0.0, dilatancyAngle = 0.0;
+  DruckerPragerCone cone = DruckerPragerCone::PlaneStrain;
+  double cohesionModulus = 0.0, residualCohesion = 0.0;
 };
 
 struct MaterialLaw {
-  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Yield, Hardening, Count };
+  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Yield, Hardening, Eta, EtaBar, Xi, Residual, Count };
   Kokkos::View<double* [Count], Kokkos::LayoutRight, DeviceType> table;
 
   KOKKOS_FORCEINLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
   KOKKOS_FORCEINLINE_FUNCTION bool isLinearElastic(int m) const { return model(m) == (int)MaterialModel::LinearElastic; }
   KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) != (int)MaterialModel::LinearElastic; }
-  KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) == (int)MaterialModel::J2Plasticity; }
+  // J2 and Drucker-Prager: b_e and the equivalent plastic strain.
+  KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) >= (int)MaterialModel::J2Plasticity; }
   KOKKOS_FORCEINLINE_FUNCTION LinearElasticModel linearElastic(int m) const {  // inline: a 40-byte return
     return LinearElasticModel{table(m, C11), table(m, C12), table(m, C33), table(m, CZZ), table(m, InvDet)};
   }
   KOKKOS_INLINE_FUNCTION NeoHookeanModel neoHookean(int m) const { return NeoHookeanModel{table(m, Lambda), table(m, Mu)}; }
   KOKKOS_INLINE_FUNCTION J2PlasticityModel j2(int m) const {
     return J2PlasticityModel{table(m, Lambda), table(m, Mu), table(m, Yield), table(m, Hardening)};
+  }
+  // Yield holds the cohesion c_0 and Hardening its modulus.
+  KOKKOS_INLINE_FUNCTION DruckerPragerModel druckerPrager(int m) const {
+    return DruckerPragerModel{table(m, Lambda), table(m, Mu),    table(m, Eta),      table(m, EtaBar),
+                              table(m, Xi),     table(m, Yield), table(m, Hardening), table(m, Residual)};
   }
 
   // s may alias s0.
@@ -72,8 +84,10 @@ struct MaterialLaw {
       linearElastic(m).template stress<Dim>(s0, G, s);
     else if (kind == (int)MaterialModel::NeoHookean)
       neoHookean(m).template stress<Dim>(F, s);
-    else
+    else if (kind == (int)MaterialModel::J2Plasticity)
       j2(m).template stress<Dim>(G, determinant<Dim>(F), h, s);
+    else
+      druckerPrager(m).template stress<Dim>(G, determinant<Dim>(F), h, s);
   }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION void tangent(int m, double J,
@@ -83,28 +97,33 @@ struct MaterialLaw {
       isotropicTangent<Dim>(table(m, C11), table(m, C12), table(m, C33), D);
     else if (kind == (int)MaterialModel::NeoHookean)
       neoHookean(m).template tangent<Dim>(J, D);
-    else
+    else if (kind == (int)MaterialModel::J2Plasticity)
       j2(m).template tangent<Dim>(J, D);
+    else
+      druckerPrager(m).template tangent<Dim>(J, D);
   }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION void tangent(int m, const double (&G)[Dim][Dim], double J, const double* h,
                                       double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) const {
-    if (hasHistory(m))
+    if (model(m) == (int)MaterialModel::J2Plasticity)
       j2(m).template tangent<Dim>(G, J, h, D);
+    else if (model(m) == (int)MaterialModel::DruckerPrager)
+      druckerPrager(m).template tangent<Dim>(G, J, h, D);
     else
       tangent<Dim>(m, J, D);
   }
   // The history a particle of material m starts with (zeros for a model without history).
   KOKKOS_INLINE_FUNCTION void initialHistory(int m, double* h) const {
     for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = 0.0;
-    if (model(m) == (int)MaterialModel::J2Plasticity) J2PlasticityModel::initialHistory(h);
+    if (hasHistory(m)) henckyInitialHistory(h);
   }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim], const double* h) const {
     const int kind = model(m);
     if (kind == (int)MaterialModel::LinearElastic) return linearElastic(m).template energyDensity<Dim>(s);
     if (kind == (int)MaterialModel::NeoHookean) return neoHookean(m).template energyDensity<Dim>(F);
-    return j2(m).energyDensity(h, determinant<Dim>(F));
+    if (kind == (int)MaterialModel::J2Plasticity) return j2(m).energyDensity(h, determinant<Dim>(F));
+    return druckerPrager(m).energyDensity(h, determinant<Dim>(F));
   }
 };
 
@@ -126,6 +145,16 @@ class Materials {
       h(m, Law::Mu) = E / (2 * (1 + nu));
       h(m, Law::Yield) = params_[m].yieldStress;
       h(m, Law::Hardening) = params_[m].hardening;
+      if (params_[m].model == MaterialModel::DruckerPrager) {
+        const double degree = 3.141592653589793 / 180.0;
+        double eta = 0, etaBar = 0, xi = 0, xiBar = 0;
+        DruckerPragerModel::coneSlopes(params_[m].cone, params_[m].frictionAngle * degree, eta, xi);
+        DruckerPragerModel::coneSlopes(params_[m].cone, params_[m].dilatancyAngle * degree, etaBar, xiBar);
+        h(m, Law::Eta) = eta; h(m, Law::EtaBar) = etaBar; h(m, Law::Xi) = xi;
+        h(m, Law::Yield) = params_[m].cohesion;
+        h(m, Law::Hardening) = params_[m].cohesionModulus;
+        h(m, Law::Residual) = params_[m].residualCohesion;
+      }
     }
     Kokkos::deep_copy(law_.table, h);
   }

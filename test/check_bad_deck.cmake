@@ -231,6 +231,23 @@ file(READ "${SRC}/../apps/column_implicit_cpgimp_neohookean.yaml" good)
 expect_failure(j2_without_yield "Model: Neo-Hookean" "Model: J2 Plasticity" "'Materials/soil/Yield Stress' must be positive")
 expect_failure(j2_negative_hardening "Model: Neo-Hookean" "Model: J2 Plasticity\n      Yield Stress: 1.0e5\n      Hardening Modulus: -1.0"
                "'Materials/soil/Hardening Modulus' must not be negative")
+# Drucker-Prager: the friction angle in (0, 90), the dilatancy angle in [0, phi], the cohesion
+# not negative, softening that the return can follow, a cone that exists.
+set(dp "Model: Drucker-Prager\n      Cohesion: 1.0e4\n      Friction Angle: 30.0\n      Dilatancy Angle: 10.0")
+expect_failure(dp_friction_angle_90 "Model: Neo-Hookean" "Model: Drucker-Prager\n      Friction Angle: 90.0"
+               "'Materials/soil/Friction Angle' must lie in (0, 90) degrees, got 90")
+expect_failure(dp_without_friction_angle "Model: Neo-Hookean" "Model: Drucker-Prager\n      Cohesion: 1.0e4"
+               "'Materials/soil/Friction Angle' must lie in (0, 90) degrees, got 0")
+expect_failure(dp_dilatancy_above_friction "Model: Neo-Hookean" "Model: Drucker-Prager\n      Friction Angle: 30.0\n      Dilatancy Angle: 35.0"
+               "'Materials/soil/Dilatancy Angle' must lie in [0, Friction Angle = 30] degrees, got 35")
+expect_failure(dp_negative_cohesion "Model: Neo-Hookean" "Model: Drucker-Prager\n      Friction Angle: 30.0\n      Cohesion: -1.0"
+               "'Materials/soil/Cohesion' must not be negative")
+expect_failure(dp_steep_softening "Model: Neo-Hookean" "${dp}\n      Cohesion Modulus: -1.0e12"
+               "'Materials/soil/Cohesion Modulus' softens faster than the return allows")
+expect_failure(dp_unknown_cone "Model: Neo-Hookean" "${dp}\n      Cone: Middle"
+               "Cone")
+expect_failure(dp_key_on_j2 "Model: Neo-Hookean" "Model: J2 Plasticity\n      Yield Stress: 1.0e5\n      Cone: Outer"
+               "'Materials/soil/Cone' is a Drucker-Prager parameter")
 expect_failure(negative_minimum_step "    Type: Implicit" "    Type: Implicit\n    Implicit:\n      Adaptive Time Step: true\n      Minimum Time Step: -1.0"
                "'Integrator/Implicit/Minimum Time Step' must not be negative")
 # The manufactured solution: its field, load and initial state belong together.

@@ -11,10 +11,14 @@
 #include <random>
 
 #include "physics/Materials.hpp"
+#include "test/ElastoplasticDriver.hpp"
 
 namespace {
 
 using namespace impm;
+using impm_test::ElastoplasticDriver;
+using impm_test::kirchhoffAfter;
+using impm_test::tangentMismatch;
 
 template <int Dim>
 struct Probe {
@@ -211,31 +215,6 @@ TEUCHOS_UNIT_TEST(Material, NeoHookeanSolidStressAndTangent) { checkNeoHookean<3
 
 // --- J2 plasticity at finite strain ---
 
-// Drives one J2 particle through the deformation gradients F_1 ... F_N (increments
-// f = F_{k+1} F_k^-1 from F_0 = I) and returns the Cauchy stress, the history and J.
-template <int Dim>
-struct J2Driver {
-  MaterialLaw law;
-  double h[ParticleSet::kHistoryCount];
-  double s[StressLayout<Dim>::count] = {};
-  double F[Dim][Dim];
-  explicit J2Driver(const MaterialLaw& l) : law(l) {
-    J2PlasticityModel::initialHistory(h);
-    for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) F[i][j] = i == j ? 1.0 : 0.0;
-  }
-  void stepTo(const double (&Fnew)[Dim][Dim]) {
-    double inv[Dim][Dim], f[Dim][Dim], G[Dim][Dim];
-    inverse<Dim>(F, determinant<Dim>(F), inv);
-    multiply<Dim>(Fnew, inv, f);
-    for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) G[i][j] = f[i][j] - (i == j ? 1.0 : 0.0);
-    law.template stress<Dim>(0, s, G, Fnew, h, s);
-    for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) F[i][j] = Fnew[i][j];
-  }
-};
-
 // Proportional loading in fixed principal axes, rotated by R: with logarithmic strains the
 // return map is exactly the small-strain one, so the Kirchhoff stress must equal the closed-form
 // small-strain J2 solution evaluated at the log strains, K tr(e) I + q n with
@@ -252,7 +231,7 @@ void checkJ2Proportional(Teuchos::FancyOStream& out, bool& success) {
   const double eFinal[3] = {-0.3, Dim == 2 ? 0.25 : 0.12, Dim == 2 ? 0.0 : 0.14};
   const double angle = 0.4;
   const double R[3][3] = {{std::cos(angle), -std::sin(angle), 0}, {std::sin(angle), std::cos(angle), 0}, {0, 0, 1}};
-  J2Driver<Dim> driver(materials.law());
+  ElastoplasticDriver<Dim> driver(materials.law());
   const int steps = 40;
   for (int k = 1; k <= steps; ++k) {
     const double t = double(k) / steps;
@@ -303,7 +282,7 @@ TEUCHOS_UNIT_TEST(Material, J2ReturnIsOnTheYieldSurfaceAndIsochoric) {
   const Materials materials({clay}, PlaneCondition::Solid);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-0.2, 0.2);
-  J2Driver<3> driver(materials.law());
+  ElastoplasticDriver<3> driver(materials.law());
   for (int k = 0; k < 5; ++k) {
     double F[3][3];
     for (int i = 0; i < 3; ++i)
@@ -332,82 +311,6 @@ TEUCHOS_UNIT_TEST(Material, J2ReturnIsOnTheYieldSurfaceAndIsochoric) {
 
 // --- The consistent tangent of J2 at finite strain ---
 
-// tau = J sigma after the increment f = I + G from the driver's state (its history is not changed).
-template <int Dim>
-void j2Kirchhoff(const J2Driver<Dim>& d, const double (&G)[Dim][Dim], double* tau) {
-  double h[ParticleSet::kHistoryCount], s[StressLayout<Dim>::count], f[Dim][Dim], F[Dim][Dim];
-  for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = d.h[i];
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j) f[i][j] = (i == j ? 1.0 : 0.0) + G[i][j];
-  multiply<Dim>(f, d.F, F);
-  d.law.template stress<Dim>(0, d.s, G, F, h, s);
-  const double J = determinant<Dim>(F);
-  for (int c = 0; c < StressLayout<Dim>::count; ++c) tau[c] = J * s[c];
-}
-
-// The tangent D of the increment G from the driver's state against central differences of the
-// Lie rate of tau: perturbing f to (I + e L) f, (tau(+e) - tau(-e)) / 2e - (L tau + tau L^T)
-// must be J D sym(L) for symmetric L (one per Voigt strain), and zero for skew L (objectivity:
-// the kernel's D sees only sym(L)). Returns the worst mismatch over mu; `plastic` tells whether
-// the increment yields, and `fromElastic` the largest |D - D_elastic| / mu.
-template <int Dim>
-double j2TangentMismatch(const J2Driver<Dim>& d, const double (&G)[Dim][Dim], double mu, bool& plastic,
-                         double& fromElastic) {
-  using SL = StressLayout<Dim>;
-  double f[Dim][Dim], F[Dim][Dim], tau[SL::count];
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j) f[i][j] = (i == j ? 1.0 : 0.0) + G[i][j];
-  multiply<Dim>(f, d.F, F);
-  const double J = determinant<Dim>(F);
-  double D[SL::voigt][SL::voigt], De[SL::voigt][SL::voigt];
-  d.law.template tangent<Dim>(0, G, J, d.h, D);
-  d.law.template tangent<Dim>(0, J, De);
-  j2Kirchhoff(d, G, tau);
-  {
-    double h[ParticleSet::kHistoryCount], s[SL::count];
-    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = d.h[i];
-    d.law.template stress<Dim>(0, d.s, G, F, h, s);
-    plastic = h[6] > d.h[6];
-  }
-  fromElastic = 0;
-  for (int r = 0; r < SL::voigt; ++r)
-    for (int v = 0; v < SL::voigt; ++v) fromElastic = std::max(fromElastic, J * std::abs(D[r][v] - De[r][v]) / mu);
-  const double e = 1e-6;
-  double worst = 0;
-  // Directions: the Voigt strains (symmetric), then the skew ones (i < j).
-  for (int v = 0; v < SL::voigt + Dim * (Dim - 1) / 2; ++v) {
-    double L[Dim][Dim] = {};
-    const bool symmetric = v < SL::voigt;
-    if (symmetric) {
-      const int i = SL::first(v), j = SL::second(v);
-      if (i == j) L[i][i] = 1.0;
-      else L[i][j] = L[j][i] = 0.5;
-    } else {
-      const int w = v - SL::voigt, i = w == 2 ? 1 : 0, j = w == 0 ? 1 : 2;
-      L[i][j] = 0.5;
-      L[j][i] = -0.5;
-    }
-    double Gp[Dim][Dim], Gm[Dim][Dim], tp[SL::count], tm[SL::count];
-    for (int a = 0; a < Dim; ++a)
-      for (int b = 0; b < Dim; ++b) {
-        double lf = 0;
-        for (int k = 0; k < Dim; ++k) lf += L[a][k] * f[k][b];
-        Gp[a][b] = f[a][b] + e * lf - (a == b ? 1.0 : 0.0);
-        Gm[a][b] = f[a][b] - e * lf - (a == b ? 1.0 : 0.0);
-      }
-    j2Kirchhoff(d, Gp, tp);
-    j2Kirchhoff(d, Gm, tm);
-    for (int r = 0; r < SL::voigt; ++r) {
-      const int a = SL::first(r), b = SL::second(r);
-      double convected = 0;  // (L tau + tau L^T)_ab
-      for (int k = 0; k < Dim; ++k) convected += L[a][k] * tau[SL::index(k, b)] + tau[SL::index(a, k)] * L[b][k];
-      const double lie = (tp[r] - tm[r]) / (2 * e) - convected;
-      worst = std::max(worst, std::abs(lie - (symmetric ? J * D[r][v] : 0.0)) / mu);
-    }
-  }
-  return worst;
-}
-
 // States: a rotated, stretched history that has yielded (alpha > 0, b_e != I), then from it an
 // elastic unloading step, a plastic step in a random direction, and a large plastic step; and from
 // the virgin state a uniaxial stretch past yield (two equal trial eigenvalues: the x coth x limit);
@@ -424,7 +327,7 @@ void checkJ2Tangent(Teuchos::FancyOStream& out, bool& success) {
     MaterialParameters steel{200e9, 0.3, 7800, MaterialModel::J2Plasticity, 250e6, H};
     const Materials materials({steel}, plane);
     const double mu = materials.c33(0);
-    J2Driver<Dim> yielded(materials.law());
+    ElastoplasticDriver<Dim> yielded(materials.law());
     const double angle = 0.7;
     const double R[3][3] = {{std::cos(angle), -std::sin(angle), 0}, {std::sin(angle), std::cos(angle), 0}, {0, 0, 1}};
     const double stretch[3] = {std::exp(0.08), std::exp(-0.05), std::exp(-0.02)};
@@ -439,11 +342,11 @@ void checkJ2Tangent(Teuchos::FancyOStream& out, bool& success) {
       yielded.stepTo(F);
     }
     TEST_COMPARE(yielded.h[6], >, 0.01);
-    const J2Driver<Dim> virgin(materials.law());
+    const ElastoplasticDriver<Dim> virgin(materials.law());
 
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    struct Case { const char* name; const J2Driver<Dim>* from; double G[Dim][Dim]; bool plastic; };
+    struct Case { const char* name; const ElastoplasticDriver<Dim>* from; double G[Dim][Dim]; bool plastic; };
     Case cases[4];
     cases[0] = {"elastic unloading", &yielded, {}, false};  // back by a 25th of the last step
     cases[1] = {"plastic, random direction", &yielded, {}, true};
@@ -472,7 +375,7 @@ void checkJ2Tangent(Teuchos::FancyOStream& out, bool& success) {
     for (Case& c : cases) {
       bool plastic = false;
       double fromElastic = 0;
-      const double worst = j2TangentMismatch<Dim>(*c.from, c.G, mu, plastic, fromElastic);
+      const double worst = tangentMismatch<Dim>(*c.from, c.G, mu, plastic, fromElastic);
       out << Dim << "D J2 (H = " << H << "), " << c.name << ": |Lie rate - J D| <= " << worst
           << " mu; |D - D_elastic| J = " << fromElastic << " mu\n";
       TEST_EQUALITY(plastic, c.plastic);
@@ -498,10 +401,10 @@ void checkJ2Tangent(Teuchos::FancyOStream& out, bool& success) {
       double D[SL::voigt][SL::voigt], De[SL::voigt][SL::voigt], tau0[SL::count], tau1[SL::count], Ge[Dim][Dim];
       materials.law().template tangent<Dim>(0, zero, J, yielded.h, D);
       materials.law().template tangent<Dim>(0, J, De);
-      j2Kirchhoff(yielded, zero, tau0);
+      kirchhoffAfter(yielded, zero, tau0);
       for (int i = 0; i < Dim; ++i)
         for (int j = 0; j < Dim; ++j) Ge[i][j] = e * L[i][j];
-      j2Kirchhoff(yielded, Ge, tau1);
+      kirchhoffAfter(yielded, Ge, tau1);
       double worst = 0, elasticWorst = 0;
       for (int r = 0; r < SL::voigt; ++r) {
         const int a = SL::first(r), b = SL::second(r);

@@ -1,6 +1,7 @@
 #include "physics/materials/MaterialRegistry.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "core/DeckSchema.hpp"
@@ -27,6 +28,53 @@ void readJ2(const ParameterList& m, const std::string& key, MaterialParameters& 
     throw DeckError("'" + key + "/Hardening Modulus' must not be negative, got " + formatNumber(p.hardening));
 }
 
+const char* const kConeNames[] = {"Plane Strain", "Outer", "Inner"};
+
+void addDruckerPragerParameters(ParameterList& pl) {
+  schema::number(pl, "Cohesion", 0.0, "Drucker-Prager: cohesion c_0 (Pa, >= 0)");
+  schema::number(pl, "Friction Angle", 0.0, "Drucker-Prager: friction angle phi (degrees, in (0, 90))");
+  schema::number(pl, "Dilatancy Angle", 0.0, "Drucker-Prager: dilatancy angle psi (degrees, in [0, Friction Angle]; = phi: associated flow)");
+  schema::choice(pl, "Cone", kConeNames[0], {kConeNames[0], kConeNames[1], kConeNames[2]},
+                 "Drucker-Prager: the cone's match to Mohr-Coulomb. Plane Strain: the Mohr-Coulomb collapse load in plane "
+                 "strain (associated flow); Outer: the compressive meridian (triaxial compression); Inner: the extensive "
+                 "meridian (triaxial extension)");
+  schema::number(pl, "Cohesion Modulus", 0.0,
+                 "Drucker-Prager: dc/dalpha, the cohesion's linear change with the equivalent plastic strain (Pa; negative: "
+                 "softening, down to Residual Cohesion)");
+  schema::number(pl, "Residual Cohesion", 0.0, "Drucker-Prager: the cohesion softening stops at (Pa, in [0, Cohesion])");
+}
+
+void readDruckerPrager(const ParameterList& m, const std::string& key, MaterialParameters& p) {
+  const auto fail = [&](const std::string& k, const std::string& what, double v) {
+    throw DeckError("'" + key + "/" + k + "' " + what + ", got " + formatNumber(v));
+  };
+  p.cohesion = m.get<double>("Cohesion");
+  p.frictionAngle = m.get<double>("Friction Angle");
+  p.dilatancyAngle = m.get<double>("Dilatancy Angle");
+  p.cohesionModulus = m.get<double>("Cohesion Modulus");
+  p.residualCohesion = m.get<double>("Residual Cohesion");
+  if (!(p.cohesion >= 0)) fail("Cohesion", "must not be negative", p.cohesion);
+  if (!(p.frictionAngle > 0 && p.frictionAngle < 90)) fail("Friction Angle", "must lie in (0, 90) degrees", p.frictionAngle);
+  if (!(p.dilatancyAngle >= 0 && p.dilatancyAngle <= p.frictionAngle))
+    fail("Dilatancy Angle", "must lie in [0, Friction Angle = " + formatNumber(p.frictionAngle) + "] degrees", p.dilatancyAngle);
+  if (!(p.residualCohesion >= 0 && p.residualCohesion <= p.cohesion))
+    fail("Residual Cohesion", "must lie in [0, Cohesion = " + formatNumber(p.cohesion) + "]", p.residualCohesion);
+  if (!std::isfinite(p.cohesionModulus)) fail("Cohesion Modulus", "must be a number", p.cohesionModulus);
+  const std::string cone = m.get<std::string>("Cone");
+  for (int c = 0; c < 3; ++c)
+    if (cone == kConeNames[c]) p.cone = DruckerPragerCone(c);
+  // The cone's return divides by mu + K eta etaBar + xi^2 H: softening steeper than that has no
+  // unique return (the yield surface would shrink faster than the elastic trial state relaxes).
+  const double degree = 3.141592653589793 / 180.0, mu = p.E / (2 * (1 + p.nu)), K = p.E / (3 * (1 - 2 * p.nu));
+  double eta = 0, xi = 0, etaBar = 0, xiBar = 0;
+  DruckerPragerModel::coneSlopes(p.cone, p.frictionAngle * degree, eta, xi);
+  DruckerPragerModel::coneSlopes(p.cone, p.dilatancyAngle * degree, etaBar, xiBar);
+  const double limit = -(mu + K * eta * etaBar) / (xi * xi);
+  if (!(p.cohesionModulus > limit))
+    fail("Cohesion Modulus", "softens faster than the return allows (must exceed -(mu + K eta etaBar) / xi^2 = " +
+                                 formatNumber(limit) + " Pa)", p.cohesionModulus);
+}
+
 }  // namespace
 
 const std::vector<MaterialModelInfo>& materialModels() {
@@ -41,6 +89,13 @@ const std::vector<MaterialModelInfo>& materialModels() {
        "von Mises elastoplasticity at finite strain (multiplicative split, Hencky elasticity, radial return, linear "
        "isotropic hardening: Yield Stress, Hardening Modulus)",
        true, J2PlasticityModel::historyCount, addJ2Parameters, {"Yield Stress", "Hardening Modulus"}, readJ2},
+      {MaterialModel::DruckerPrager, "Drucker-Prager",
+       "pressure-dependent elastoplasticity for soils at finite strain (the J2 model's Hencky elasticity; a cone matched "
+       "to Mohr-Coulomb, non-associated flow through the dilatancy angle, cone and apex returns, linear cohesion "
+       "hardening or softening: Cohesion, Friction Angle, Dilatancy Angle, Cone, Cohesion Modulus, Residual Cohesion)",
+       true, DruckerPragerModel::historyCount, addDruckerPragerParameters,
+       {"Cohesion", "Friction Angle", "Dilatancy Angle", "Cone", "Cohesion Modulus", "Residual Cohesion"},
+       readDruckerPrager},
   };
   static const bool historyFits = std::all_of(models.begin(), models.end(), [](const MaterialModelInfo& m) {
     return m.historyWidth <= ParticleSet::kHistoryCount;
@@ -121,7 +176,8 @@ MaterialParameters readMaterial(const ParameterList& m, const std::string& key,
   for (const auto& other : materialModels()) {
     if (&other == model) continue;
     for (const auto& k : other.parameterKeys)
-      if (m.isParameter(k) && m.get<double>(k) != 0.0)
+      if (m.isParameter(k) && (m.isType<double>(k) ? m.get<double>(k) != 0.0
+                                                   : m.get<std::string>(k) != materialSchema()->get<std::string>(k)))
         throw DeckError("'" + key + "/" + k + "' is a " + other.name + " parameter; 'Model' = " + name + " does not use it");
   }
   return p;

@@ -194,7 +194,7 @@ void convertSingleBodyForm(ParameterList& deck) {
   ParameterList& m = deck.sublist("Materials").sublist("Material");
   std::vector<std::string> keys = {"Young Modulus", "Poisson Ratio", "Density"};
   for (const auto& model : materialModels()) keys.insert(keys.end(), model.parameterKeys.begin(), model.parameterKeys.end());
-  for (const auto& key : keys) m.set(key, material.get<double>(key));
+  for (const auto& key : keys) m.setEntry(key, material.getEntry(key));
   m.set("Model", material.get<std::string>("Model"));
   ParameterList& b = deck.sublist("Bodies").sublist("Body");
   b.set("Shape", std::string("Rectangle"));
