@@ -17,7 +17,7 @@
 //
 // Sample run:   build/apps/impm_bench_explicit            (spawns itself once per thread count)
 //               build/apps/impm_bench_explicit --case mpm2d --steps 400   (one case: mpm2d, gimp2d,
-//                 mpm3d, gimp3d, neohookean2d, j2-2d, contact2d)
+//                 mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, contact2d)
 //               build/apps/impm_bench_explicit --child --kokkos-threads=2 --steps 200
 //               build/apps/impm_bench_explicit --case mpm2d --timers   (adds the time of each
 //                 phase: p2g, grid update, g2p, ...; Teuchos::TimeMonitor, summed over the repeats)
@@ -70,7 +70,15 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
   }
   GridDistribution dist(g, comm);
   const bool linear = model == MaterialModel::LinearElastic;
-  Materials mat(std::vector<MaterialParameters>{{200e9, 0.3, 7800.0, model, 250e6, 1e9}},
+  // J2 and Drucker-Prager stay elastic under the bar's small traction: both pay their return
+  // map's trial state (an eigen-decomposition and logs) on every particle and step.
+  MaterialParameters parameters{200e9, 0.3, 7800.0, model, 250e6, 1e9};
+  if (model == MaterialModel::DruckerPrager) {
+    parameters.cohesion = 250e6;
+    parameters.frictionAngle = 30.0;
+    parameters.dilatancyAngle = 10.0;
+  }
+  Materials mat(std::vector<MaterialParameters>{parameters},
                 Dim == 3 ? PlaneCondition::Solid : linear ? PlaneCondition::PlaneStress : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
   if (mat.anyHistory()) ps.allocateHistory();
@@ -171,7 +179,7 @@ void printHostState(const char* when) {
 }
 
 void printUsage() {
-  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|contact2d] [--steps N] "
+  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|dp-2d|contact2d] [--steps N] "
               "[--repeat N] [--timers]\n"
               "  runs each case at 1 and 2 OpenMP threads (one child process per thread count) and prints\n"
               "  M particle-steps/s (best, median and worst of N timed repeats, default 3) and bytes per\n"
@@ -184,7 +192,7 @@ int main(int argc, char** argv) {
   bool child = false, timers = false;
   int steps = 200, repeats = 3;
   std::string only;
-  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d", "gimp3d", "neohookean2d", "j2-2d", "contact2d"};
+  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d", "gimp3d", "neohookean2d", "j2-2d", "dp-2d", "contact2d"};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--child")) child = true;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
@@ -205,7 +213,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!only.empty() && std::find(std::begin(cases), std::end(cases), only) == std::end(cases)) {
-    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, contact2d)\n",
+    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, contact2d)\n",
                  only.c_str());
     return 2;
   }
@@ -262,6 +270,7 @@ int main(int argc, char** argv) {
   if (wanted("gimp3d")) runCase<impm::UniformGimp, 3>(steps, repeats, comm);
   if (wanted("neohookean2d")) runCase<impm::LinearMpm, 2>(steps, repeats, comm, impm::MaterialModel::NeoHookean);
   if (wanted("j2-2d")) runCase<impm::LinearMpm, 2>(steps, repeats, comm, impm::MaterialModel::J2Plasticity);
+  if (wanted("dp-2d")) runCase<impm::LinearMpm, 2>(steps, repeats, comm, impm::MaterialModel::DruckerPrager);
   if (wanted("contact2d"))  // gimp2d's particles as two bodies with multi-field contact
     runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, true);
   return 0;
