@@ -243,7 +243,7 @@ expect_failure(dp_dilatancy_above_friction "Model: Neo-Hookean" "Model: Drucker-
 expect_failure(dp_negative_cohesion "Model: Neo-Hookean" "Model: Drucker-Prager\n      Friction Angle: 30.0\n      Cohesion: -1.0"
                "'Materials/soil/Cohesion' must not be negative")
 expect_failure(dp_steep_softening "Model: Neo-Hookean" "${dp}\n      Cohesion Modulus: -1.0e12"
-               "'Materials/soil/Cohesion Modulus' softens faster than the return allows")
+               "'Materials/soil/Cohesion Modulus' softens faster than the cone and apex returns allow")
 expect_failure(dp_unknown_cone "Model: Neo-Hookean" "${dp}\n      Cone: Middle"
                "Cone")
 expect_failure(dp_key_on_j2 "Model: Neo-Hookean" "Model: J2 Plasticity\n      Yield Stress: 1.0e5\n      Cone: Outer"

@@ -63,16 +63,19 @@ void readDruckerPrager(const ParameterList& m, const std::string& key, MaterialP
   const std::string cone = m.get<std::string>("Cone");
   for (int c = 0; c < 3; ++c)
     if (cone == kConeNames[c]) p.cone = DruckerPragerCone(c);
-  // The cone's return divides by mu + K eta etaBar + xi^2 H: softening steeper than that has no
-  // unique return (the yield surface would shrink faster than the elastic trial state relaxes).
+  // The cone's return divides by mu + K eta etaBar + xi^2 H, the apex's (etaBar > 0) by K + xi^2 H /
+  // (eta etaBar): softening steeper than either allows has no unique return (the yield surface
+  // would shrink faster than the elastic trial state relaxes).
   const double degree = 3.141592653589793 / 180.0, mu = p.E / (2 * (1 + p.nu)), K = p.E / (3 * (1 - 2 * p.nu));
   double eta = 0, xi = 0, etaBar = 0, xiBar = 0;
   DruckerPragerModel::coneSlopes(p.cone, p.frictionAngle * degree, eta, xi);
   DruckerPragerModel::coneSlopes(p.cone, p.dilatancyAngle * degree, etaBar, xiBar);
-  const double limit = -(mu + K * eta * etaBar) / (xi * xi);
+  const double coneLimit = -(mu + K * eta * etaBar) / (xi * xi);
+  const double apexLimit = etaBar > 0 ? -K * eta * etaBar / (xi * xi) : coneLimit;
+  const double limit = std::max(coneLimit, apexLimit);
   if (!(p.cohesionModulus > limit))
-    fail("Cohesion Modulus", "softens faster than the return allows (must exceed -(mu + K eta etaBar) / xi^2 = " +
-                                 formatNumber(limit) + " Pa)", p.cohesionModulus);
+    fail("Cohesion Modulus", "softens faster than the cone and apex returns allow (must exceed " + formatNumber(limit) + " Pa)",
+         p.cohesionModulus);
 }
 
 }  // namespace
