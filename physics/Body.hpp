@@ -55,6 +55,10 @@ struct BodySpec {
   std::array<double, 3> rigidVelocity{};
   std::array<double, 3> rigidNormal{};  // unit outward normal of a plane rigid body (0: none)
   TimeFunction motion;
+  // Geostatic initial stress (Initial Stress = Geostatic): sigma_yy = -rho g (surfaceY - y),
+  // sigma_xx = sigma_zz = k0 sigma_yy, with g the deck's gravity along -y.
+  bool geostatic = false;
+  double k0 = 0, surfaceY = 0;
 };
 
 // The particles of all bodies that lie in this rank's cell columns, in the grid's dimension (3D:

@@ -81,6 +81,9 @@ class Simulation {
   void buildMaterials();
   void buildBodies();
   BodySpec readBody(const std::string& name, const Teuchos::ParameterList& entry);
+  void readGeostaticStress(const std::string& key, const Teuchos::ParameterList& entry, BodySpec& body) const;
+  double geostaticGravity(const std::string& key) const;
+  void applyGeostaticStresses();
   void readRectangle(const std::string& key, const Teuchos::ParameterList& entry, BodySpec& body) const;
   void checkInsideGrid(const std::string& key, const BodySpec& body) const;
   void estimateBodySize(const BodySpec& body, size_t fileParticles);

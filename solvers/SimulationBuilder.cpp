@@ -4,7 +4,10 @@
 // the order in which they run.
 #include "solvers/Simulation.hpp"
 
+#include <Teuchos_CommHelpers.hpp>
+
 #include "core/InputDeck.hpp"
+#include "physics/InitialConditions.hpp"
 
 namespace impm {
 
@@ -43,12 +46,28 @@ void Simulation::createParticlesAndConditions(const std::vector<ConstraintSpec>&
   } catch (const std::invalid_argument& e) {
     throw DeckError(e.what());
   }
+  applyGeostaticStresses();
   checkConditionsReached(cspecs);
   wallSpecs_ = buildWalls();  // ConditionsSection.cpp
   checkParticlesBesideWalls(wallSpecs_);
   contactSpec_ = buildContact();  // ContactSection.cpp
   constraints_ = GridConditions(cspecs, *dist_, wallSpecs_, contactSpec_);
   constraintSpecs_ = cspecs;  // rebuilt for a new rank grid (load balance)
+}
+
+// Initial Stress = Geostatic: each such body's particles start at rest under their overburden.
+void Simulation::applyGeostaticStresses() {
+  for (int b = 0; b < (int)bodies_.size(); ++b) {
+    const BodySpec& body = bodies_[b];
+    if (!body.geostatic) continue;
+    const std::string key = "Bodies/" + body.name;
+    const double local = applyGeostaticStress(particles_, materials_, b, geostaticGravity(key), body.surfaceY, body.k0);
+    double highest = local;
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, local, Teuchos::outArg(highest));
+    if (highest > body.surfaceY)
+      throw DeckError("'" + key + "/Surface Y' = " + formatNumber(body.surfaceY) + " lies below the body's highest particle at y = " +
+                      formatNumber(highest) + " (the overburden would pull)");
+  }
 }
 
 }  // namespace impm

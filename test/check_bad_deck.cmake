@@ -248,6 +248,23 @@ expect_failure(dp_unknown_cone "Model: Neo-Hookean" "${dp}\n      Cone: Middle"
                "Cone")
 expect_failure(dp_key_on_j2 "Model: Neo-Hookean" "Model: J2 Plasticity\n      Yield Stress: 1.0e5\n      Cone: Outer"
                "'Materials/soil/Cone' is a Drucker-Prager parameter")
+# Geostatic initial stress: K0 > 0, a surface above the body, gravity along -y, not Neo-Hookean.
+file(READ "${SRC}/../apps/column_collapse_explicit_gimp_dp.yaml" good)
+expect_failure(geostatic_negative_k0 "      Particles Per Cell Y: 2" "      Particles Per Cell Y: 2\n      Initial Stress: Geostatic\n      K0: -0.5\n      Surface Y: 0.12"
+               "'Bodies/column/K0' must be positive")
+expect_failure(geostatic_low_surface "      Particles Per Cell Y: 2" "      Particles Per Cell Y: 2\n      Initial Stress: Geostatic\n      K0: 0.5\n      Surface Y: 0.05"
+               "'Bodies/column/Surface Y' = 0.05 lies below the body's highest particle")
+expect_failure(k0_without_geostatic "      Particles Per Cell Y: 2" "      Particles Per Cell Y: 2\n      K0: 0.5"
+               "'Bodies/column/K0' belongs to 'Initial Stress' = Geostatic")
+string(REPLACE "      Particles Per Cell Y: 2" "      Particles Per Cell Y: 2\n      Initial Stress: Geostatic\n      K0: 0.5\n      Surface Y: 0.12"
+       good "${good}")
+expect_failure(geostatic_sideways_gravity "      Acceleration Y: -9.81" "      Acceleration Y: -9.81\n      Acceleration X: 1.0"
+               "'Bodies/column/Initial Stress' = Geostatic takes gravity along -y")
+expect_failure(geostatic_without_gravity "      Acceleration Y: -9.81" "      Acceleration Y: 0.0"
+               "'Bodies/column/Initial Stress' = Geostatic needs gravity")
+file(READ "${SRC}/../apps/column_implicit_cpgimp_neohookean.yaml" good)
+expect_failure(geostatic_neo_hookean "      Particles Per Cell Y: 2" "      Particles Per Cell Y: 2\n      Initial Stress: Geostatic\n      K0: 0.5\n      Surface Y: 1.0"
+               "'Bodies/column/Initial Stress' = Geostatic needs a material whose stress can start non-zero")
 expect_failure(negative_minimum_step "    Type: Implicit" "    Type: Implicit\n    Implicit:\n      Adaptive Time Step: true\n      Minimum Time Step: -1.0"
                "'Integrator/Implicit/Minimum Time Step' must not be negative")
 # The manufactured solution: its field, load and initial state belong together.

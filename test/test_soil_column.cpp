@@ -111,4 +111,68 @@ TEUCHOS_UNIT_TEST(ColumnCollapse, TallColumnSettlesToTheHeightLaw) {
   TEST_COMPARE(dep.runOut, <=, 1.15 * 1.67 * a);
 }
 
+// Geostatic initial stress: a layer of the column's sand (0.2 m wide, 0.1 m deep) between two
+// smooth walls on the rough floor. Started stress-free it drops under gravity and rings (the
+// top's speed reaches the order of g times the time to compress it); started geostatic (K0 =
+// 1 - sin phi, Jaky's normally consolidated soil, inside the cone) it stays at rest. With GIMP
+// on the layer's regular lattice the nodal internal force of the linear stress field balances
+// the nodal weight exactly, so "at rest" is asserted to round-off: the top's speed below 1e-8 of
+// the stress-free start's (measured 2e-12 and 6e-16), the stress at mid-depth equal to the
+// overburden's -rho g d to 1e-8 (measured 1e-11 and 2e-15). The same with linear elasticity and
+// K0 = nu / (1 - nu).
+struct LayerMotion {
+  double topSpeed, midStress, overburden;
+};
+
+LayerMotion settle(bool geostatic, bool elastic, const std::string& outdir) {
+  ParameterList d = *impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/column_collapse_explicit_gimp_dp.yaml");
+  d.sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0).set("History Interval", 10);
+  const double wall = 0.02, depth = 0.1, width = 0.2, rho = 1925.0, g = 9.81;
+  auto& sand = d.sublist("Materials").sublist("sand");
+  const double nu = 0.22, phi = 22.2;
+  if (elastic) {
+    ParameterList linear;
+    linear.set("Young Modulus", sand.get<double>("Young Modulus")).set("Poisson Ratio", nu).set("Density", rho);
+    d.sublist("Materials").remove("sand");
+    d.sublist("Materials").set("sand", linear);
+  }
+  auto& column = d.sublist("Bodies").sublist("column");
+  column.set("X Max", wall + width).set("Y Max", wall + depth);
+  if (geostatic)
+    column.set("Initial Stress", std::string("Geostatic"))
+        .set("K0", elastic ? nu / (1 - nu) : 1 - std::sin(phi * 3.141592653589793 / 180))
+        .set("Surface Y", wall + depth);
+  d.sublist("Grid").set("Cells X", 26).set("Cells Y", 14);
+  ParameterList right;
+  right.set("Normal", std::string("x-")).set("Position", wall + width).set("Friction", 0.0);
+  d.sublist("Walls").set("right", right);
+  d.sublist("Integrator").set("Number of Steps", 2000);
+  const double xMid = wall + width / 2 + 0.0025, yTop = wall + depth - 0.0025, yMid = wall + depth / 2 + 0.0025;
+  ParameterList top, mid;
+  top.set("Quantity", std::string("Velocity Y")).set("X", xMid).set("Y", yTop);
+  mid.set("Quantity", std::string("Stress YY")).set("X", xMid).set("Y", yMid);
+  d.sublist("Monitors").set("top", top).set("mid", mid);
+  impm::validateDeck(d);
+  impm::Simulation sim(d, Tpetra::getDefaultComm(), outdir);
+  std::ostringstream log;
+  const impm::RunResult r = sim.run(log);
+  if (r.status != "completed") throw std::runtime_error("the layer stopped: " + r.status);
+  double fastest = 0;
+  for (double v : r.computed.at("top")) fastest = std::max(fastest, std::abs(v));
+  return {fastest, r.computed.at("mid").back(), -rho * g * (wall + depth - yMid)};
+}
+
+TEUCHOS_UNIT_TEST(ColumnCollapse, GeostaticLayerStaysAtRest) {
+  for (const bool elastic : {false, true}) {
+    const LayerMotion dropped = settle(false, elastic, "test_output/layer_dropped");
+    const LayerMotion held = settle(true, elastic, "test_output/layer_geostatic");
+    out << (elastic ? "linear elastic" : "Drucker-Prager") << ": top speed stress-free start " << dropped.topSpeed
+        << " m/s, geostatic " << held.topSpeed << " m/s (ratio " << held.topSpeed / dropped.topSpeed
+        << "); mid-depth sigma_yy " << held.midStress << " Pa against " << held.overburden << "\n";
+    TEST_COMPARE(dropped.topSpeed, >, 1e-3);
+    TEST_COMPARE(held.topSpeed, <, 1e-8 * dropped.topSpeed);
+    TEST_COMPARE(std::abs(held.midStress - held.overburden), <, 1e-8 * std::abs(held.overburden));
+  }
+}
+
 }  // namespace

@@ -63,6 +63,16 @@ RCP<const ParameterList> build::bodiesTemplate() {
   number(*pl, "Velocity X", 0.0, "initial velocity, x (m/s)");
   number(*pl, "Velocity Y", 0.0, "initial velocity, y (m/s)");
   number(*pl, "Velocity Z", 0.0, "initial velocity, z (m/s; 3D)");
+  choice(*pl, "Initial Stress", "None", {"None", "Geostatic"},
+         "None: the body starts stress-free. Geostatic: at rest under the deck's gravity (the Body Force loads' "
+         "Acceleration Y < 0, nothing along x or z): sigma_yy = -rho g (Surface Y - y) from the overburden of its own "
+         "material, sigma_xx = sigma_zz = K0 sigma_yy (plane stress: sigma_zz = 0); the elastoplastic models start "
+         "with the elastic strain of that stress. Hold the body's sides (constraints or walls): the horizontal stress "
+         "pushes on them. Not with Neo-Hookean (its stress is a function of F alone)");
+  number(*pl, "K0", 0.0, "Initial Stress = Geostatic: the ratio of horizontal to vertical stress (> 0; elastic, "
+                         "laterally confined: nu / (1 - nu); normally consolidated soil: 1 - sin(phi))");
+  number(*pl, "Surface Y", 0.0, "Initial Stress = Geostatic: the elevation of the free surface, at or above the body's "
+                                "highest particle (m)");
   pl->set("Rigid", false,
           "true: the body moves rigidly with Velocity X/Y/Z times its Time Function (a platen, an indenter, a wall at "
           "any angle) and meets the other bodies through 'Contact/Type' = Multi Field, as if infinitely heavy: they "
@@ -105,6 +115,41 @@ void Simulation::buildBodies() {
   for (auto it = bs.begin(); it != bs.end(); ++it) bodies_.push_back(readBody(bs.name(it), bs.sublist(bs.name(it))));
 }
 
+// Initial Stress = Geostatic: K0 and Surface Y, and a gravity along -y to take the overburden from.
+void Simulation::readGeostaticStress(const std::string& key, const ParameterList& b, BodySpec& body) const {
+  body.geostatic = b.get<std::string>("Initial Stress") == "Geostatic";
+  body.k0 = b.get<double>("K0");
+  body.surfaceY = b.get<double>("Surface Y");
+  if (!body.geostatic) {
+    for (const char* k : {"K0", "Surface Y"})
+      if (b.get<double>(k) != 0.0)
+        throw DeckError("'" + key + "/" + k + "' belongs to 'Initial Stress' = Geostatic; the body's is None");
+    return;
+  }
+  if (!(body.k0 > 0)) throw DeckError("'" + key + "/K0' must be positive for 'Initial Stress' = Geostatic, got " + formatNumber(body.k0));
+  if (materials_.parameters(body.material).model == MaterialModel::NeoHookean)
+    throw DeckError("'" + key + "/Initial Stress' = Geostatic needs a material whose stress can start non-zero at F = I; "
+                    "Neo-Hookean's is a function of F alone");
+  geostaticGravity(key);  // refuses a deck without gravity along -y
+}
+
+// The gravity g > 0 along -y of the deck's Body Force loads (their Acceleration Y summed).
+double Simulation::geostaticGravity(const std::string& key) const {
+  const ParameterList& loads = deck_.sublist("Loads");
+  double gy = 0;
+  for (auto it = loads.begin(); it != loads.end(); ++it) {
+    const ParameterList& l = loads.sublist(loads.name(it));
+    if (l.get<std::string>("Type") != "Body Force") continue;
+    if (l.get<double>("Acceleration X") != 0.0 || l.get<double>("Acceleration Z") != 0.0)
+      throw DeckError("'" + key + "/Initial Stress' = Geostatic takes gravity along -y; 'Loads/" + loads.name(it) +
+                      "' also accelerates along x or z");
+    gy += l.get<double>("Acceleration Y");
+  }
+  if (!(gy < 0))
+    throw DeckError("'" + key + "/Initial Stress' = Geostatic needs gravity: a Body Force load with Acceleration Y < 0");
+  return -gy;
+}
+
 // One entry of Bodies: its material, particles per cell, initial velocity, placement and shape.
 BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
   const std::string key = "Bodies/" + name;
@@ -132,6 +177,7 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
   if (grid_.dim == 2 && body.velocityZ != 0.0)
     throw DeckError("'" + key + "/Velocity Z' = " + formatNumber(body.velocityZ) + " needs 'Grid/Dimension' = 3");
   readRigidMotion(key, b, body);
+  readGeostaticStress(key, b, body);
   if (b.get<std::string>("Particle Placement") == "Gauss") {
     // Gauss pairs in sub-cells: an even count per direction, and only where a lattice is filled.
     if (shape == "Particles File" || placement_ != Placement::Lattice)
