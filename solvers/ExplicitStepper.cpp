@@ -23,6 +23,7 @@ ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridD
     throw std::invalid_argument("the projection correction works on one velocity field; multi-field contact needs "
                                 "'Integrator/Explicit/Projection Iterations' = 0");
   conditions_.useFieldColumns(sumsStride_, kinStride_);
+  if (opt_.fbar) fbar_ = std::make_unique<FbarAveraging<Dim>>(dist, mat_.count());
   // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
   massCutoff_ = opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
 }
@@ -133,8 +134,18 @@ void ExplicitStepper<Shape, Dim>::stressFromGhostedVelocity(double dt, bool from
       gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, K::VelX, columns);
     });
   }
-  updateStress<Exec, Dim>(ps_, mat_.law(), dt, true,
-                          ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection());
+  updateParticleStresses(dt);
+}
+
+template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::updateParticleStresses(double dt) {
+  const DomainConvection domain = ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection();
+  if (fbar_) {
+    fbar_->template accumulate<Exec>(ps_, dt);
+    updateStress<Exec, Dim>(ps_, mat_.law(), dt, true, domain, fbar_->correction(ps_));
+  } else {
+    updateStress<Exec, Dim>(ps_, mat_.law(), dt, true, domain);
+  }
 }
 
 template <class Shape, int Dim>
@@ -166,12 +177,17 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
   {
     PhaseTimer phase("g2p");
     auto kinv = fields_.kinGhosted->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const bool usl = opt_.scheme == ExplicitScheme::USL;
-    // USL: the stress update from grad v^{n+1} runs inside g2p.
+    // USL: the stress update from grad v^{n+1} runs inside g2p (after it with F-bar, which needs
+    // every particle's gradient first).
+    const bool usl = opt_.scheme == ExplicitScheme::USL && !fbar_;
     withFields(kinStride_, [&](const auto& columns) {
       gridToParticleExplicit<Exec, Shape, Dim>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
                                                mat_.law(), usl, columns);
     });
+  }
+  if (opt_.scheme == ExplicitScheme::USL && fbar_) {
+    PhaseTimer phase("stress update");
+    updateParticleStresses(dt);
   }
   if (opt_.scheme == ExplicitScheme::MUSL) {
     // Re-map the updated particle momentum, then the stress from that velocity field.

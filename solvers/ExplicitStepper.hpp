@@ -5,6 +5,9 @@
 #include <Teuchos_Comm.hpp>
 
 #include "core/GridDistribution.hpp"
+#include <memory>
+
+#include "core/kernels/FbarAveraging.hpp"
 #include "core/kernels/GridToParticle.hpp"
 #include "core/kernels/InternalForce.hpp"
 #include "core/kernels/ParticleToGrid.hpp"
@@ -37,6 +40,8 @@ struct ExplicitOptions {
   // Mass-proportional damping c (1/s): the grid acceleration gets -c v_i, a force -c m_i v_i,
   // for dynamic relaxation to a quasi-static state (critical for a mode omega at c = 2 omega).
   double massDamping = 0.0;
+  // F-bar volumetric-locking control (core/kernels/FbarAveraging.hpp).
+  bool fbar = false;
 };
 
 template <class Shape, int Dim = 2>
@@ -57,6 +62,8 @@ class ExplicitStepper : public Integrator {
   void particleToGridMomentum();
   void particleToGridForces(double t, bool withMomentum);
   void stressFromGhostedVelocity(double dt, bool fromAccum);
+  // The stress update from dt x the particles' gradient view (with F-bar when on).
+  void updateParticleStresses(double dt);
   void correctProjection();
   template <class F>
   void withFields(int stride, const F& f) const;
@@ -74,6 +81,7 @@ class ExplicitStepper : public Integrator {
   int fieldCount_ = 1, sumsStride_ = 0, kinStride_ = 0, geometryCol_ = -1;
   GridFields fields_;
   ProjectionCorrection<Shape, Dim> projection_;
+  std::unique_ptr<FbarAveraging<Dim>> fbar_;
   double massCutoff_ = 0.0;
 };
 

@@ -175,6 +175,7 @@ class Simulation {
   std::vector<BodySpec> bodies_;
   std::vector<double> estimatedBodyParticles_, estimatedBodyCells_;  // per body, for checkProblemSize
   std::string shape_;  // Method/Shape Function
+  bool fbar_ = false;  // Method/Volumetric Locking = F-bar
   Placement placement_ = Placement::Lattice;
   std::unique_ptr<GridDistribution> dist_;
   int migrationSlack_ = 0;  // Decomposition/Migration Slack Cells

@@ -248,6 +248,17 @@ expect_failure(dp_unknown_cone "Model: Neo-Hookean" "${dp}\n      Cone: Middle"
                "Cone")
 expect_failure(dp_key_on_j2 "Model: Neo-Hookean" "Model: J2 Plasticity\n      Yield Stress: 1.0e5\n      Cone: Outer"
                "'Materials/soil/Cone' is a Drucker-Prager parameter")
+# F-bar: plane strain or 3D, material points, Jacobian-free Newton.
+file(READ "${SRC}/../apps/bar_explicit_mpm_plane_stress.yaml" good)
+expect_failure(fbar_plane_stress "    Shape Function: MPM" "    Shape Function: MPM\n    Volumetric Locking: F-bar"
+               "'Method/Volumetric Locking' = F-bar is for plane strain and 3D")
+file(READ "${SRC}/../apps/bar_implicit_fe_q9_plane_strain.yaml" good)
+expect_failure(fbar_fe_reference "    Shape Function: FE Q9" "    Shape Function: FE Q9\n    Volumetric Locking: F-bar"
+               "'Method/Volumetric Locking' = F-bar is for material points")
+file(READ "${SRC}/../apps/footing_displacement_implicit_gimp_j2.yaml" good)
+expect_failure(fbar_assembled_jacobian "    Jacobian: Jacobian-Free" "    Jacobian: Assembled"
+               "'Method/Volumetric Locking' = F-bar needs 'Implicit Solver/Jacobian' = Jacobian-Free")
+expect_failure(unknown_locking_control "    Volumetric Locking: F-bar" "    Volumetric Locking: B-bar" "Volumetric Locking")
 # Geostatic initial stress: K0 > 0, a surface above the body, gravity along -y, not Neo-Hookean.
 file(READ "${SRC}/../apps/column_collapse_explicit_gimp_dp.yaml" good)
 expect_failure(geostatic_negative_k0 "      Particles Per Cell Y: 2" "      Particles Per Cell Y: 2\n      Initial Stress: Geostatic\n      K0: -0.5\n      Surface Y: 0.12"

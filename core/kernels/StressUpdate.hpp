@@ -85,10 +85,18 @@ KOKKOS_FORCEINLINE_FUNCTION void updateParticleState(const FixedParticleViews<Di
   }
 }
 
-// Every particle with G = scale * ps.gradient (explicit: grad v and dt; implicit: grad u and 1).
-template <class ExecSpace, int Dim, class Law>
+// A correction of each particle's increment G before the update (core/kernels/FbarAveraging.hpp);
+// this one leaves G as it is.
+struct NoStrainCorrection {
+  template <int Dim>
+  KOKKOS_FORCEINLINE_FUNCTION void operator()(int, double (&)[Dim][Dim]) const {}
+};
+
+// Every particle with G = scale * ps.gradient (explicit: grad v and dt; implicit: grad u and 1),
+// corrected by `correct`.
+template <class ExecSpace, int Dim, class Law, class Correction = NoStrainCorrection>
 void updateStress(const ParticleSet& set, const Law& law, double scale, bool updateVolume = true,
-                  const DomainConvection& domain = {}) {
+                  const DomainConvection& domain = {}, const Correction& correct = Correction()) {
   const FixedParticleViews<Dim> ps(set);
   auto L = ps.gradient;
   Kokkos::parallel_for(
@@ -96,6 +104,7 @@ void updateStress(const ParticleSet& set, const Law& law, double scale, bool upd
         double G[Dim][Dim];
         for (int i = 0; i < Dim; ++i)
           for (int j = 0; j < Dim; ++j) G[i][j] = scale * L(p, i, j);
+        correct(p, G);
         updateParticleState<Dim>(ps, law, p, G, updateVolume, domain);
       });
 }

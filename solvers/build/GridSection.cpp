@@ -58,6 +58,12 @@ void addMethodSchema(ParameterList& valid) {
          "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
          "only, Rectangle bodies only; Particles Per Cell is not used. In 3D FE Q4 is the trilinear Hex8 "
          "(2 x 2 x 2 points per cell) and FE Q9 the triquadratic Hex27 (3 x 3 x 3 per element of 2 x 2 x 2 cells)");
+  choice(p, "Volumetric Locking", "None", {"None", "F-bar"},
+         "None: each particle's own deformation; F-bar: each particle's volume change over a step is that of its cell "
+         "(the volume-weighted mean of det dF over the cell's particles of the same material, Coombs et al. 2018), "
+         "its isochoric part its own, against the volumetric locking of isochoric plastic flow (J2, Drucker-Prager "
+         "at zero dilatancy) and near-incompressible elasticity. Explicit and implicit (Jacobian-Free Newton), "
+         "plane strain and 3D, material points only");
 }
 
 void addDecompositionSchema(ParameterList& valid) {
@@ -103,6 +109,13 @@ void Simulation::readMethod() {
   shape_ = deck_.sublist("Method").get<std::string>("Shape Function");
   const ShapeInfo& shape = shapeInfo(shape_);  // (the schema admits only the registry's names)
   if (shape.fixedParticles) placement_ = shape.quadraticElements ? Placement::GaussQ9 : Placement::GaussQ4;
+  fbar_ = deck_.sublist("Method").get<std::string>("Volumetric Locking") == "F-bar";
+  if (fbar_ && shape.fixedParticles)
+    throw DeckError("'Method/Volumetric Locking' = F-bar is for material points; 'Method/Shape Function' = " + shape_ +
+                    " is the finite-element reference");
+  if (fbar_ && grid_.dim == 2 && deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress")
+    throw DeckError("'Method/Volumetric Locking' = F-bar is for plane strain and 3D; 'Grid/Plane Condition' = Plane Stress "
+                    "has no volumetric locking to control");
 }
 
 // The rank grid and the grid distribution (Decomposition).

@@ -151,6 +151,7 @@ ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
   const std::string s = ex.get<std::string>("Update Scheme");
   eopt.scheme = s == "USF" ? ExplicitScheme::USF : s == "MUSL" ? ExplicitScheme::MUSL : ExplicitScheme::USL;
   eopt.flip = ex.get<double>("FLIP Fraction");
+  eopt.fbar = fbar_;
   eopt.projectionIterations = ex.get<int>("Consistent Projection Iterations");
   if (eopt.projectionIterations < 0)
     throw DeckError("'Integrator/Explicit/Consistent Projection Iterations' must not be negative");
@@ -200,6 +201,7 @@ ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
   iopt.seedGimpStiffness = im.get<std::string>("GIMP Stiffness") == "Integrated";
   iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
   iopt.fixedParticles = fe;
+  iopt.fbar = fbar_;
   iopt.newmark.beta = im.get<double>("Newmark Beta");
   iopt.newmark.gamma = im.get<double>("Newmark Gamma");
   if (!(iopt.newmark.gamma >= 0.5 && 2 * iopt.newmark.beta >= iopt.newmark.gamma && iopt.newmark.beta <= 1.0))

@@ -20,6 +20,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleCellPairs.hpp"
+#include "core/kernels/FbarAveraging.hpp"
 #include "physics/GridConditions.hpp"
 #include "physics/Materials.hpp"
 #include "physics/Loads.hpp"
@@ -78,6 +79,11 @@ struct ImplicitOptions {
   // Finite-element reference mode: the particles are Gauss points and do not move; the grid
   // carries the velocity and acceleration from step to step (no projection from particles).
   bool fixedParticles = false;
+  // F-bar volumetric-locking control (core/kernels/FbarAveraging.hpp): in the residual and the
+  // particle update. Jacobian-free Newton only: the residual's directional derivative then
+  // carries F-bar's coupling of a cell's particles, which the assembled blocks leave out (the
+  // preconditioner is built from them all the same).
+  bool fbar = false;
   // Adaptive sub-steps within each deck step on the Newton iteration count (see step()); the
   // smallest sub-step allowed (0: dt / 2^maxStepHalvings).
   bool adaptiveTimeStep = false;
@@ -153,6 +159,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   const LoadSet& loads_;
   ImplicitOptions opt_;
   ProjectionCorrection<Shape, Dim> projection_;
+  std::unique_ptr<FbarAveraging<Dim>> fbar_;
   std::unique_ptr<NewtonSolver> solver_;
   double dt_ = 0, massCutoff_ = 0;
   bool firstStep_ = true;

@@ -57,6 +57,14 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
   massCutoff_ = std::is_same<Shape, LinearMpm>::value ? 0.0 : opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
   if (seedGimpStiffness_ && Dim == 3)
     throw std::invalid_argument("'Integrator/Implicit/GIMP Stiffness' = Integrated (the seed's overlap integrals) is 2D only; use Consistent in 3D");
+  if (opt_.fbar) {
+    // (Tried: Newton on the assembled blocks at the barred state converges linearly at 0.35 per
+    // iteration, and misses the tolerance within 20 iterations even in an elastic step.)
+    if (!jacobianFree())
+      throw std::invalid_argument("'Method/Volumetric Locking' = F-bar needs 'Implicit Solver/Jacobian' = Jacobian-Free: "
+                                  "the assembled Jacobian leaves out F-bar's coupling of the particles in a cell");
+    fbar_ = std::make_unique<FbarAveraging<Dim>>(dist, mat_.count());
+  }
   if (opt_.fixedParticles) {
     gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * Dim));
     if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ps_.newVector("u");
@@ -241,7 +249,14 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   {
     auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f, FC::ForceX);
+    if (fbar_) {  // the cells' volume change first (core/kernels/FbarAveraging.hpp)
+      gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX);
+      fbar_->template accumulate<Exec>(ps_, 1.0);
+      scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f, FC::ForceX,
+                                                  fbar_->correction(ps_));
+    } else {
+      scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f, FC::ForceX);
+    }
     if (opt_.consistentMass)  // M_C u = sum_p m_p S_ip u_p with u_p = sum_j S_jp u_j
       particleToGridMassProduct<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX, f, FC::MassProductX);
   }
@@ -421,6 +436,10 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
     scatterUnknowns(u);
     auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
     gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX);
+    if (fbar_) {  // the preconditioner's tangent at the barred state (without F-bar's cell coupling)
+      fbar_->template accumulate<Exec>(ps_, 1.0);
+      fbar_->template correctGradients<Exec>(ps_);
+    }
   }
   if (refresh_.keep(!assembler_.matrix().is_null(), trialTangent)) {
     PCurrent_ = true;
@@ -499,8 +518,13 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
   using DC = implicit::DisplacementColumns<Dim>;
   auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX);
-  updateStress<Exec, Dim>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles,
-                          ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection());
+  const DomainConvection domain = ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection();
+  if (fbar_) {
+    fbar_->template accumulate<Exec>(ps_, 1.0);
+    updateStress<Exec, Dim>(ps_, mat_.law(), 1.0, true, domain, fbar_->correction(ps_));
+  } else {
+    updateStress<Exec, Dim>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles, domain);
+  }
   const StructuredGrid g = dist_.grid();
   const LocalNodeIndexer ix = dist_.ghostedIndexer();
   auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;

@@ -3,6 +3,7 @@
 
 #include "core/ParticleSet.hpp"
 #include "core/kernels/InternalForce.hpp"
+#include "core/kernels/StressUpdate.hpp"
 #include "physics/Materials.hpp"
 #include "solvers/implicit/ImplicitGridColumns.hpp"
 #include "solvers/implicit/NewmarkScheme.hpp"
@@ -14,10 +15,12 @@ namespace impm {
 // the grid, the trial stress and its internal force through the shared scatterInternalForce.
 // Small strain: sigma_n + D sym(grad u) on the step's initial domain. Finite strain:
 // F = (I + grad u) F_n and the law's stress there; a path-dependent law works on a copy of the
-// history (the trial state is discarded).
-template <class Exec, class Shape, int Dim, class DispView, class ForceView>
+// history (the trial state is discarded). `correct` may replace grad u (F-bar:
+// core/kernels/FbarAveraging.hpp).
+template <class Exec, class Shape, int Dim, class DispView, class ForceView, class Correction = NoStrainCorrection>
 void scatterTrialInternalForce(const StructuredGrid& grid, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                               const Materials& materials, const DispView& d, int uX, const ForceView& f, int fX) {
+                               const Materials& materials, const DispView& d, int uX, const ForceView& f, int fX,
+                               const Correction& correct = Correction()) {
   auto vol = ps.volume;
   auto sig = ps.stress;
   auto matId = ps.material;
@@ -31,6 +34,7 @@ void scatterTrialInternalForce(const StructuredGrid& grid, const LocalNodeIndexe
           for (int i = 0; i < Dim; ++i)
             for (int j = 0; j < Dim; ++j) G[i][j] += d(n, uX + i) * dw[j];
         });
+        correct(p, G);
         double trial[StressLayout<Dim>::count];
         loadStress<Dim>(sig, p, trial);
         const int m = matId(p);
