@@ -1,4 +1,4 @@
-// F-bar's cell averaging (core/kernels/FbarAveraging.hpp) on hand-placed particles, on one or
+// F-bar's cell averaging (core/kernels/FbarAveraging.hpp) on hand-placed particles (2D, and one 3D cell), on one or
 // two ranks. Each rank places the same pattern of particles in two cells on either side of the
 // middle of the grid (where two ranks split it), with increments G that differ per particle, and
 // two materials in one cell. After the correction:
@@ -169,6 +169,54 @@ TEUCHOS_UNIT_TEST(Fbar, StressUpdateKeepsTheCellVolume) {
     out << "cell " << c << ": sum V det(I + G) " << before[c] << ", sum V after the update " << after[c] << "\n";
     TEST_FLOATING_EQUALITY(after[c], before[c], 1e-14);
   }
+}
+
+// 3D: eight particles in one cell of a 2 x 2 x 2 grid with different G: each ends with the
+// cell's volume-weighted mean det(I + G) (the exponent is 1/3), a multiple of its own I + G.
+TEUCHOS_UNIT_TEST(Fbar, VolumeChangeIsTheCellsIn3d) {
+  auto comm = Tpetra::getDefaultComm();
+  StructuredGrid g;
+  g.dim = 3;
+  g.nx = g.ny = g.nz = 2;
+  const GridDistribution dist(g, comm);
+  const int n = 8;
+  ParticleSet ps(n, 3);
+  auto x = Kokkos::create_mirror_view(ps.x);
+  auto V = Kokkos::create_mirror_view(ps.volume);
+  auto L = Kokkos::create_mirror_view(ps.gradient);
+  double sumVJ = 0, sumV = 0;
+  std::vector<std::array<double, 9>> G(n);
+  for (int p = 0; p < n; ++p) {
+    for (int d = 0; d < 3; ++d) x(p, d) = 0.25 + 0.5 * ((p >> d) & 1);
+    V(p) = 0.1 + 0.01 * p;
+    for (int c = 0; c < 9; ++c) G[p][c] = 0.01 * std::sin(1.0 + 3 * p + c) + (c % 4 == 0 ? 0.02 * p : 0.0);
+    for (int c = 0; c < 9; ++c) L(p, c / 3, c % 3) = G[p][c];
+    double F[3][3];
+    for (int c = 0; c < 9; ++c) F[c / 3][c % 3] = G[p][c] + (c % 4 == 0 ? 1 : 0);
+    sumVJ += V(p) * determinant<3>(F);
+    sumV += V(p);
+  }
+  Kokkos::deep_copy(ps.x, x);
+  Kokkos::deep_copy(ps.volume, V);
+  Kokkos::deep_copy(ps.gradient, L);
+  FbarAveraging<3> fbar(dist, 1);
+  fbar.accumulate<ExecutionSpace>(ps, 1.0);
+  fbar.correctGradients<ExecutionSpace>(ps);
+  auto Lbar = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.gradient);
+  // Every rank places the same eight particles: the mean over all ranks is this rank's.
+  const double mean = sumVJ / sumV;
+  double worstJ = 0, worstShape = 0;
+  for (int p = 0; p < n; ++p) {
+    double Fb[3][3];
+    for (int c = 0; c < 9; ++c) Fb[c / 3][c % 3] = Lbar(p, c / 3, c % 3) + (c % 4 == 0 ? 1 : 0);
+    worstJ = std::max(worstJ, std::abs(determinant<3>(Fb) - mean));
+    const double s = Fb[0][0] / (1 + G[p][0]);
+    for (int c = 0; c < 9; ++c)
+      worstShape = std::max(worstShape, std::abs(Fb[c / 3][c % 3] - s * (G[p][c] + (c % 4 == 0 ? 1 : 0))));
+  }
+  out << "3D: worst |det(I + G_bar) - cell mean| " << worstJ << ", worst departure from s (I + G) " << worstShape << "\n";
+  TEST_ASSERT(worstJ < 1e-14);
+  TEST_ASSERT(worstShape < 1e-14);
 }
 
 }  // namespace
