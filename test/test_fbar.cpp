@@ -1,7 +1,7 @@
 // F-bar's cell averaging (core/kernels/FbarAveraging.hpp) on hand-placed particles (2D, and one
-// 3D cell), on one or two ranks. Each rank places the same pattern of particles in two cells on either side of the
-// middle of the grid (where two ranks split it), with increments G that differ per particle, and
-// two materials in one cell. After the correction:
+// 3D cell), on one or two ranks. Each rank places the same pattern of particles in two cells on
+// either side of the middle of the grid (where two ranks split it), with increments G that differ
+// per particle, and two materials in one cell. After the correction:
 //   - every particle of a (cell, material) has det(I + G_bar) equal to the volume-weighted mean of
 //     det(I + G) over that (cell, material) on all ranks (computed here from the known pattern);
 //   - I + G_bar is a positive multiple of I + G (the isochoric part is the particle's own);
