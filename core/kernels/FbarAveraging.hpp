@@ -67,7 +67,7 @@ template <int Dim>
 class FbarAveraging {
  public:
   FbarAveraging(const GridDistribution& dist, int materialCount)
-      : dist_(dist), columns_(2 * materialCount),
+      : dist_(dist),
         owned_(Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * materialCount))),
         ghosted_(dist.comm()->getSize() == 1 ? owned_
                                              : Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2 * materialCount))) {}
@@ -130,7 +130,6 @@ class FbarAveraging {
 
  private:
   const GridDistribution& dist_;
-  int columns_;
   Teuchos::RCP<MultiVector> owned_, ghosted_;
 };
 
