@@ -9,7 +9,7 @@
 // by 20-30% from run to run). For GIMP, "consistent K" assembles P from the averaged gradients
 // (Integrator/Implicit/GIMP Stiffness: Consistent), the exact Jacobian of the GIMP residual,
 // instead of the seed's integrated stiffness.
-// Targets (issue 3): <= 2 Newton iterations and <= 10 Krylov iterations per Newton iteration
+// Targets: <= 2 Newton iterations and <= 10 Krylov iterations per Newton iteration
 // on average, the whole 1000-step run within 2 s on 2 threads.
 //
 // Sample run:   OMP_NUM_THREADS=2 build/apps/impm_bench_implicit [--steps N]

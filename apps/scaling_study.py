@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Strong and weak scaling of an impm deck over OpenMP threads and MPI ranks (issue 10, tooling).
+"""Strong and weak scaling of an impm deck over OpenMP threads and MPI ranks.
 
 Runs the deck (outputs off) once per configuration and reads each run's summary.yaml:
 particle-steps per second, wall time per step, parallel efficiency against the first

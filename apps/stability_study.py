@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The explicit stability limit of every scheme impm offers, measured (issue 12, item 3).
+"""The explicit stability limit of every scheme impm offers, measured.
 
 The check impm applies is dt <= Stability Factor / (c_p sqrt(1/hx^2 + 1/hy^2)), the critical step
 of lumped bilinear cells. The particle transfers (and the consistent-projection correction) change

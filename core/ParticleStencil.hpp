@@ -137,8 +137,8 @@ struct ParticleStencil {
       // A particle domain is clipped to the grid: the grid's edge is the body's boundary. The
       // clipped domain's functions keep the partition of unity (sum w = 1, sum grad = 0), so
       // rigid motion stays strain-free and mass, force and stiffness see the same domain.
-      // (Dropping the nodes beyond the edge instead lost both, and a GIMP body that filled the
-      // grid vibrated up to 3 times too fast; issue 12.)
+      // (Dropping the nodes beyond the edge instead would lose both: a GIMP body that fills the
+      // grid then vibrates up to 3 times too fast.)
       const double end = origin + ncells * h;
       if (x - l < origin || x + l > end) {  // rare: only domains across the edge change
         const double lo = x - l > origin ? x - l : origin;

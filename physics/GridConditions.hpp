@@ -1,5 +1,5 @@
 // Grid conditions: the grid-side physics between particle-to-grid and grid-to-particle. Each
-// condition acts on a set of grid dofs (one component of one node); today's conditions prescribe
+// condition acts on a set of grid dofs (one component of one node); impm's conditions prescribe
 // the motion of their dofs (a fixed component is the motion 0). The integrators call the hooks
 // below at fixed places in their steps, and each hook both writes the prescribed values into the
 // grid fields and records the force the condition applied (its reaction):

@@ -167,7 +167,7 @@ void History::restoreState(const NamedArrays& state, RunResult& r) {
   r.reactionColumns = reactionColumns_;
   for (const auto& c : reactionColumns_) {
     const auto it = state.find("history reaction " + c);
-    // (A checkpoint written before the reactions were recorded has none: zeros, one per row.)
+    // (A checkpoint that holds no reaction history for c: zeros, one per row.)
     r.reactions[c] = it != state.end() ? it->second : std::vector<double>(r.time.size(), 0.0);
   }
 }

@@ -1,4 +1,4 @@
-// The seed's bar in 3D (apps/bar3d_*.yaml, issue 8): a 30 mm steel bar with a 0.5 x 0.5 mm
+// The seed's bar in 3D (apps/bar3d_*.yaml): a 30 mm steel bar with a 0.5 x 0.5 mm
 // section, free lateral faces, under a step end force, explicit and implicit, MPM and GIMP,
 // against the 1D exact solution at the Young modulus E (uniaxial stress). Shortened here to
 // 2 x 2 x 2 particles per cell and the first 4e-5 s explicit (the wave crosses the bar six

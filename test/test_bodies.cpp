@@ -1,6 +1,6 @@
-// Bodies, materials and particle identity (issue 8): several bodies of any shape in one deck,
-// each of its own material; global ids independent of the MPI decomposition; the overlap rule;
-// body forces, box constraints; and the bad-input messages of the new sections. Run at np 1
+// Bodies, materials and particle identity: several bodies of any shape in one deck, each of its
+// own material; global ids independent of the MPI decomposition; the overlap rule; body forces,
+// box constraints; and the bad-input messages of the Materials and Bodies sections. Run at np 1
 // and 2.
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_UnitTestHarness.hpp>

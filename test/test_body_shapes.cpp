@@ -154,7 +154,7 @@ TEUCHOS_UNIT_TEST(BodyShapes, RectangleOnGridLinesIsUnscaled) {
   }
 }
 
-// Particle Placement (issue 9): the seed beam's depth, H = 0.5 m over 4 cells with 4 particles
+// Particle Placement: the seed beam's depth, H = 0.5 m over 4 cells with 4 particles
 // per cell. The second moment of area b H^3 / 12 sets the bending stiffness; the midpoint rule of
 // the Uniform lattice (sub-cells d = H / 16) gets it low by the factor 1 - (d/H)^2, the Gauss
 // pairs exactly (they integrate cubics in each half cell). Both keep the volume, so the mass.

@@ -1,4 +1,4 @@
-// Verification (issue 9, item 5): the seed beam (Problem 2) on its own 40 x 4 grid with implicit
+// Verification: the seed beam (Problem 2) on its own 40 x 4 grid with implicit
 // quadratic B-spline MPM, apps/beam_implicit_bspline_plane_strain.yaml as shipped (1000 steps of
 // 1e-3 s; the cubic deck likewise), against the Timoshenko beam at E/(1 - nu^2) whose modes are advanced by the same
 // Newmark rule (so that only the spatial error is measured): w(L/2, t) within 2% (relative L2
@@ -30,7 +30,7 @@ double beamError(const std::string& placement, Teuchos::FancyOStream& out, const
   deck->sublist("Body").set("Particle Placement", placement);
   deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
   impm::validateDeck(*deck);
-  // The comparison the issue asks for; the deck must name it (not the test).
+  // The comparison the verification asks for; the deck must name it (not the test).
   const ParameterList& exact = deck->sublist("Exact Solution");
   TEUCHOS_TEST_FOR_EXCEPTION(exact.get<std::string>("Beam Theory") != "Timoshenko" ||
                                  exact.get<std::string>("Time Discretisation") != "Newmark" ||

@@ -152,7 +152,7 @@ TEUCHOS_UNIT_TEST(Cantilever, ModerateDeflectionConverges) {
 TEUCHOS_UNIT_TEST(Cantilever, LargeDeflectionWithinOnePercentByJfnk) {
   // The whole deck: k = 2, tip slope 45 degrees, CPDI with 3 x 3 particles per cell, 4 cells
   // through the depth, 20 load steps of 1.5e5 explicit stable steps each. Measured: u_x -0.16%,
-  // u_y +0.03%, 5.5 Newton iterations per step, 7.9 GMRES per Newton (issue targets: 1%, 6, 15).
+  // u_y +0.03%, 5.5 Newton iterations per step, 7.9 GMRES per Newton (targets: 1%, 6, 15).
   // With 2 x 2 particles per cell CPDI is +2.0% / +1.1%, and cpGIMP +26% / +8.7% (not run here).
   const TipErrors large = runCantilever(4, 20, "CPDI", 3, "AMESOS2", out);
   TEST_COMPARE(large.x, <, 0.01);

@@ -1,8 +1,8 @@
-// The explicit time step impm accepts is stable (issue 12, item 3). The seed's explicit beam
-// with the scheme of the smallest measured limit (USL, one particle per cell, 2:1 cells;
-// doc/stability.md) runs 3000 steps at the largest step the check accepts and stays bounded
-// (its energy within twice that of the same run at a quarter of the step);
-// at the old check's limit (1 / (c_p sqrt(1/hx^2 + 1/hy^2)), 1/0.7 of today's) it diverged.
+// The explicit time step impm accepts is stable. The seed's explicit beam with the scheme of the
+// smallest measured limit (USL, one particle per cell, 2:1 cells; doc/stability.md) runs 3000 steps
+// at the largest step the check accepts and stays bounded (its energy within twice that of the same
+// run at a quarter of the step); at the bilinear cells' critical step itself
+// (1 / (c_p sqrt(1/hx^2 + 1/hy^2)), 1/0.7 of the accepted one) it diverges.
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
 
@@ -55,7 +55,7 @@ TEUCHOS_UNIT_TEST(ExplicitStability, CheckedLimitIsStable) {
   const double reference = peakEnergy(0.25, out);
   TEST_COMPARE(reference, >, 0.0);
   TEST_COMPARE(peakEnergy(1.0, out), <, 2.0 * reference);
-  // The old check (this fraction's inverse): the energy grows without bound.
+  // The bilinear cells' critical step (this fraction's inverse): the energy grows without bound.
   TEST_COMPARE(peakEnergy(1.0 / impm::kTransferStabilityFraction, out), >, 100.0 * reference);
 }
 

@@ -1,7 +1,7 @@
-// A body that fills its grid (issue 12, item 1): GIMP particle domains that reach past the grid's
-// edge are clipped to it, so the weights keep the partition of unity there; the stencils used
-// to drop the nodes beyond the edge, and a GIMP cantilever on a grid it filled vibrated 13% to
-// 229% too fast. Checked on the stencil itself and on the cantilever, filled against padded.
+// A body that fills its grid: GIMP particle domains that reach past the grid's edge are clipped
+// to it, so the weights keep the partition of unity there; with the nodes beyond the edge dropped
+// instead, a GIMP cantilever on a grid it fills vibrates 13% to 229% too fast. Checked on the
+// stencil itself and on the cantilever, filled against padded.
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
 
@@ -110,8 +110,8 @@ TipResponse runCantilever(const std::string& shape, const std::string& integrato
 // The reference: FE Q9 on the same grid (40 x 4 cells, 20 x 2 elements; it is within 0.15% of
 // Timoshenko on the seed's beam), measured T = 1.99 s, peak 7.77e-4 m (Euler-Bernoulli: 1.958 s,
 // 8.0e-4 m; shear flexibility at h / L = 0.1 lengthens both). Each method on the grid its body
-// fills must be within 1% in period and 2% in peak (measured after the fix: MPM and GIMP
-// 0.0-0.2% and 0.8%; before it, GIMP was 13% to 229% off in period in the issue's runs).
+// fills must be within 1% in period and 2% in peak (measured: MPM and GIMP 0.0-0.2% and 0.8%;
+// with the nodes beyond the edge dropped, GIMP is 13% to 229% off in period).
 // Padded, GIMP measures 2.0% and 2.6-3.3% longer and larger (its particle domains at the
 // top and bottom spread into the empty rows, a softer surface), MPM is unchanged: bounds 3%, 4%.
 const TipResponse& feQ9Reference(Teuchos::FancyOStream& out) {

@@ -144,7 +144,7 @@ TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnCpGimpConverges) {
   // Measured 0.3% at 40 cells; the bound leaves room for the quasi-static steps' inertia.
   TEST_COMPARE(fine.stressL2, <, 0.01);
   TEST_COMPARE(fine.topRelative, <, 0.005);
-  // The solver targets with the lagged (once per step) preconditioner: Newton <= 6 per
+  // The solver targets with the lagged (once per step) preconditioner: Newton <= 6 per
   // step, GMRES <= 15 per Newton (measured 3.8 and 7 at 20 cells).
   for (const ColumnErrors* e : {&coarse, &medium, &fine}) {
     TEST_COMPARE(e->newtonMean, <=, 6.0);
@@ -310,7 +310,7 @@ TEUCHOS_UNIT_TEST(LargeDeformation, J2AssembledNewtonConvergesQuadratically) {
     TEST_COMPARE(e.newtonMean, <=, 6.0);
     TEST_COMPARE(e.topRelative, <, 0.005);
   }
-  // JFNK with the preconditioner from the trial-state tangent at every Newton iterate: it is now
+  // JFNK with the preconditioner from the trial-state tangent at every Newton iterate: it is then
   // the consistent tangent in the plastic zone, GMRES per Newton 7.2 (8.9 with the elastic one).
   const ColumnErrors jfnk = runColumn("cpGIMP", 20, "J2 Plasticity", out, 400.0, [](ParameterList& deck) {
     deck.sublist("Integrator").sublist("Implicit").set("Preconditioner At Every Newton Iteration", true);

@@ -207,8 +207,8 @@ TEUCHOS_UNIT_TEST(MueLuBeam, DefaultCoarseSolveOnSeveralRanksAlsoWithAnEmptyRank
 }
 
 // A deck's own AMESOS2 subdomain solve (SCHWARZ, as Ifpack2 preconditioner or as MueLu's coarse
-// solve) on a rank without rows: KLU2 throws there, on that rank alone, and the other ranks waited
-// for it in a collective for ever (a hang, not an error). That rank now takes RILUK, a local solve
+// solve) on a rank without rows: KLU2 throws there, on that rank alone, and the other ranks would
+// wait for it in a collective for ever (a hang, not an error). That rank takes RILUK, a local solve
 // on an empty block. With an overlap (8) that takes in the whole graph, each rank's LU is of the
 // whole P: the preconditioner must be P's exact inverse, empty rank or not.
 TEUCHOS_UNIT_TEST(MueLuBeam, AmesosSubdomainSolvesSurviveARankWithoutRows) {

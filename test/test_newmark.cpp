@@ -43,8 +43,8 @@ impm::RunResult run(ParameterList d) {
 // 1.25 m and moves at g t = -5 m/s, to round-off and the Newton tolerance (measured below 2e-11;
 // bound 1e-9), for average acceleration, a damped scheme (beta 0.3025, gamma 0.6) and one off the
 // optimal line (beta 0.4, gamma 0.7). At t = 0.25 s the lowest particles sit on a grid line to
-// within round-off: a node their stencil reaches with a weight of 1e-16 must stay an unknown (with
-// the old void-node cut-off of 1e-12 of a particle's mass it was held at u = 0 and the body took a
+// within round-off: a node their stencil reaches with a weight of 1e-16 must stay an unknown (a
+// void-node cut-off of 1e-12 of a particle's mass would hold it at u = 0 and give the body a
 // spurious strain of u / h: 1 m of error by the end).
 TEUCHOS_UNIT_TEST(Newmark, FreeFallIsExactForAnyBetaAndGamma) {
   const double g = -10.0, T = 0.5;

@@ -1,4 +1,4 @@
-// The uniform-traction patch test (issue 12): a 1 x 1 m block that fills a 4 x 4 grid, rollers
+// The uniform-traction patch test: a 1 x 1 m block that fills a 4 x 4 grid, rollers
 // on x = 0 and one pinned node, a total force on its x+ face, solved by one implicit step so
 // long (dt = 1e6 s) that inertia is negligible: the static problem. (At dt = 1e4 s the lumped
 // inertia left a stress non-uniformity of 4e-11 (2D) and 4e-10 (3D) of the load; it scales

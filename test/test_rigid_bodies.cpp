@@ -154,7 +154,7 @@ TiltRun runTilted(double mu) {
 }
 
 // Neither surface lies on grid lines; the plane gives its normal (Normal X/Y), without which the
-// volume gradient of its particles' staircase held even a frictionless block still. Travel
+// volume gradient of its particles' staircase would hold even a frictionless block still. Travel
 // asserted within 3% of the closed form; held (mu = 0.7 > tan 30) below 1% of the frictionless
 // travel; the normal force within 2% of M g cos 30 (M = 0.4 kg per metre of thickness).
 TEUCHOS_UNIT_TEST(RigidBodies, BlockSlidesDownTiltedRigidPlane) {

@@ -2,7 +2,7 @@
 // both ends, from apps/standing_wave_{mpm,gimp}.yaml, on the deck's grid (1024 cells, where the
 // particles near the middle cross cell lines) and on half of it (512 cells, where no particle
 // reaches a cell line). GIMP converges there; MPM's error jumps by orders of magnitude once
-// particles cross. Also: the exact solution itself, and the deck checks of the new keys.
+// particles cross. Also: the exact solution itself, and the deck checks of the standing wave's keys.
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
 

@@ -53,7 +53,7 @@ void checkBar(const std::string& method, Teuchos::FancyOStream& out, bool& succe
   out << std::setprecision(5) << method << ": transmitted " << transmitted / sigmaI << " sigma_I (exact " << T
       << ", error " << transmitted / (T * sigmaI) - 1 << "), incident + reflected " << superposed / sigmaI
       << " sigma_I (exact " << 1 + R << ", error " << superposed / ((1 + R) * sigmaI) - 1 << ")\n";
-  // Issue 8's target: 2% at the seed's resolution.
+  // The target: 2% at the seed's resolution.
   TEST_COMPARE(std::abs(transmitted / (T * sigmaI) - 1), <, 0.02);
   TEST_COMPARE(std::abs(superposed / ((1 + R) * sigmaI) - 1), <, 0.02);
   // The whole tip displacement history against the traced fronts: measured 0.31% (MPM) and

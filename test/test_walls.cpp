@@ -288,8 +288,8 @@ TEUCHOS_UNIT_TEST(Walls, ImplicitBlockSlidesToAStopWithCoulombFriction) {
 // ImplicitBlockSlidesToAStopWithCoulombFriction at rest, gravity tilted by 30 degrees (ramped over
 // 0.05 s), mu = 0.8 (tan 30 = 0.58): the stuck nodes hold it (speed after the ramp below 1e-3
 // m/s), and the floor's forces are M g (sin 30, cos 30) within 0.1% at the end. Without the
-// friction load of the nodes that slip for good, the nodes still stuck carried their share, gave
-// way in turn, and the block crept at about 1 cm/s. (Closer to the threshold it still creeps: a
+// friction load of the nodes that slip for good, the nodes still stuck would carry their share and
+// give way in turn, and the block would creep at about 1 cm/s. (Closer to the threshold it still creeps: a
 // limitation in the user guide.)
 TEUCHOS_UNIT_TEST(Walls, ImplicitRoughFloorHoldsBlock) {
   const double M = 1000 * 0.04 * 0.01, g = 10.0, theta = M_PI / 6;

@@ -22,8 +22,8 @@ from report import table
 IMPLICIT_DECK = "apps/cantilever_implicit_cpdi_neohookean.yaml"
 EXPLICIT_DECK = "apps/cantilever_explicit_cpdi_neohookean.yaml"
 DEPTH = 0.05
-TIP_ERROR_MAX = 0.01   # the issue's 1% band, at k = 2
-NEWTON_MAX = 6.0       # JFNK targets of the issue (deck's grid)
+TIP_ERROR_MAX = 0.01   # the 1% band, at k = 2
+NEWTON_MAX = 6.0       # JFNK targets (deck's grid)
 GMRES_MAX = 15.0
 MONITORS = ("tip displacement x", "tip displacement y")
 

@@ -636,7 +636,7 @@ def markdown(res, rel_img):
                   f"The energy is not conserved: of the {100 * abs(dk['drift']):.2g}% lost, "
                   f"{100 * abs(dk['drift_after_peak']):.2g}% goes after the deepest compression (t = {dk['peak_time']:g} s), "
                   "while the disks rebound and vibrate. Explicit USL/FLIP does not conserve energy; a few percent over "
-                  "this run is within the issue's 5% bound.", ""]
+                  "this run is within the 5% bound.", ""]
         else:
             L += [f"Run failed: `{dk['run'].message}`", ""]
 
@@ -659,7 +659,7 @@ def markdown(res, rel_img):
           "the time integrator's oscillation). The bound leaves room for that oscillation" + osc + ", plus the spatial error, "
           "while an error of a different kind, like MPM's settlement above, is far outside it.",
           f"- JFNK: mean Newton iterations per step <= {NEWTON_MAX:g} and mean GMRES iterations per Newton iteration <= "
-          f"{GMRES_MAX:g} on every cpGIMP column (issue 9's solver targets, with the RILUK preconditioner built once per "
+          f"{GMRES_MAX:g} on every cpGIMP column (the solver targets, with the RILUK preconditioner built once per "
           "step). "
           + (f"Newton takes {min(newton):.1f} to {max(newton):.1f} iterations per step on average from the previous step "
              "on this slowly ramped load. " if newton else "")
@@ -668,7 +668,7 @@ def markdown(res, rel_img):
              "for these grids but need not on much finer ones with this preconditioner." if len(gm) > 1 else ""),
           f"- Disks: momentum max relative change < {MOMENTUM_MAX:g} (round-off accumulated over "
           f"{dk['run'].case.steps if dk else 'all'} steps, with margin) and |energy drift| < {100 * ENERGY_DRIFT_MAX:g}% "
-          "(issue 9's bound for the explicit scheme, which is not energy-conserving).",
+          "(the bound for the explicit scheme, which is not energy-conserving).",
           f"- The closed forms of this script and impm's `_exact` columns agree within {EXACT_AGREEMENT:g} for the "
           f"smooth laws (history.csv keeps 10 digits) and {EXACT_AGREEMENT_J2:g} for J2 (impm's quadrature across "
           "the yield kink, above): the exact solution the runs are measured against is the one impm reports.",

@@ -167,7 +167,7 @@ def compute(plan, runner, runs):
 
 
 def problem1_within_one_percent(res):
-    """Issue 4's target: every method within 1% relative L2 on u_x(L, t) and u_x(L/2, t) of Problem 1,
+    """The target: every method within 1% relative L2 on u_x(L, t) and u_x(L/2, t) of Problem 1,
     at the seed's settings or at a documented refinement (the bar grid study, full window)."""
     out = []
     grid = next((st for st in res["studies"] if st["study"].key == "bar_grid"), None)

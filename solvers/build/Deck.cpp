@@ -134,7 +134,7 @@ RCP<const ParameterList> collectionTemplate(const std::string& collection) {
 }
 
 namespace {
-// The sections of the single-body form (still read; converted by convertSingleBodyForm).
+// The sections of the single-body form (read, then converted by convertSingleBodyForm).
 RCP<const ParameterList> legacyTemplate(const std::string& section) {
   auto pl = rcp(new ParameterList(section));
   if (section == "Material") {
