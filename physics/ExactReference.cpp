@@ -236,9 +236,9 @@ class SelfWeightColumn : public ExactReference {
     if (c.dimension != 2 || c.materials->plane() != PlaneCondition::PlaneStrain)
       throw DeckError("'Exact Solution/Type' = Column Under Self-Weight is the 2D plane-strain column (Grid/Plane Condition = Plane Strain)");
     const MaterialParameters& m = c.materials->parameters(b.material);
-    if (m.model == MaterialModel::DruckerPrager)
+    if (m.model == MaterialModel::DruckerPrager || m.model == MaterialModel::MohrCoulomb)
       throw DeckError("'Exact Solution/Type' = Column Under Self-Weight has closed forms for the Linear Elastic, "
-                      "Neo-Hookean and J2 Plasticity models; the body's material is Drucker-Prager");
+                      "Neo-Hookean and J2 Plasticity models; the body's material is " + Materials::modelName(m.model));
     column_.height = b.rect.height();
     column_.density = m.density;
     column_.gravity = -load.accelerationY;

@@ -14,8 +14,8 @@
 //   tangent<Dim>(m, G, J, h, D)       dsigma/deps on the Voigt strains (2D: xx, yy, 2xy), for
 //                                     K = int B^T D B over the current volume (J = V / V0), at
 //                                     the state of stress<Dim> after the increment G from the
-//                                     history h (J2, Drucker-Prager: the consistent tangent of the return map)
-//   tangent<Dim>(m, J, D)             the same without the particle's state (J2, Drucker-Prager: elastic)
+//                                     history h (the elastoplastic models: the consistent tangent of the return map)
+//   tangent<Dim>(m, J, D)             the same without the particle's state (the elastoplastic models: elastic)
 //   energyDensity<Dim>(m, s, F, h)    (elastic) strain energy per unit current volume
 #pragma once
 
@@ -31,6 +31,7 @@
 #include "physics/materials/DruckerPragerModel.hpp"
 #include "physics/materials/J2PlasticityModel.hpp"
 #include "physics/materials/LinearElasticModel.hpp"
+#include "physics/materials/MohrCoulombModel.hpp"
 #include "physics/materials/NeoHookeanModel.hpp"
 
 namespace impm {
@@ -38,7 +39,7 @@ namespace impm {
 // The 2D idealisations, and Solid for 3D.
 enum class PlaneCondition { PlaneStrain, PlaneStress, Solid };
 
-enum class MaterialModel { LinearElastic = 0, NeoHookean = 1, J2Plasticity = 2, DruckerPrager = 3 };
+enum class MaterialModel { LinearElastic = 0, NeoHookean = 1, J2Plasticity = 2, DruckerPrager = 3, MohrCoulomb = 4 };
 
 // One material's parameters, as the deck gives them. Neo-Hookean and J2 take their Lame
 // constants from E and nu (the small-strain limit of both is the linear law).
@@ -46,21 +47,23 @@ struct MaterialParameters {
   double E = 1.0, nu = 0.0, density = 1.0;
   MaterialModel model = MaterialModel::LinearElastic;
   double yieldStress = 0.0, hardening = 0.0;  // J2: sigma_y (> 0) and the isotropic modulus H (>= 0)
-  // Drucker-Prager: c_0 (>= 0), the friction and dilatancy angles (degrees), the Mohr-Coulomb
-  // match, the cohesion's modulus H (negative: softening) and the residual cohesion c_r.
+  // Drucker-Prager and Mohr-Coulomb: c_0 (>= 0), the friction and dilatancy angles (degrees), the
+  // cohesion's modulus H (negative: softening) and the residual cohesion c_r; Drucker-Prager's
+  // match to Mohr-Coulomb; Mohr-Coulomb's tension cutoff (0: none).
   double cohesion = 0.0, frictionAngle = 0.0, dilatancyAngle = 0.0;
   DruckerPragerCone cone = DruckerPragerCone::PlaneStrain;
   double cohesionModulus = 0.0, residualCohesion = 0.0;
+  double tensionCutoff = 0.0;
 };
 
 struct MaterialLaw {
-  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Yield, Hardening, Eta, EtaBar, Xi, Residual, Count };
+  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Yield, Hardening, Eta, EtaBar, Xi, Residual, Tension, Count };
   Kokkos::View<double* [Count], Kokkos::LayoutRight, DeviceType> table;
 
   KOKKOS_FORCEINLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
   KOKKOS_FORCEINLINE_FUNCTION bool isLinearElastic(int m) const { return model(m) == (int)MaterialModel::LinearElastic; }
   KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) != (int)MaterialModel::LinearElastic; }
-  // J2 and Drucker-Prager: b_e and the equivalent plastic strain.
+  // The elastoplastic models (J2, Drucker-Prager, Mohr-Coulomb): b_e and the equivalent plastic strain.
   KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) >= (int)MaterialModel::J2Plasticity; }
   KOKKOS_FORCEINLINE_FUNCTION LinearElasticModel linearElastic(int m) const {  // inline: a 40-byte return
     return LinearElasticModel{table(m, C11), table(m, C12), table(m, C33), table(m, CZZ), table(m, InvDet)};
@@ -74,6 +77,11 @@ struct MaterialLaw {
     return DruckerPragerModel{table(m, Lambda), table(m, Mu),    table(m, Eta),      table(m, EtaBar),
                               table(m, Xi),     table(m, Yield), table(m, Hardening), table(m, Residual)};
   }
+  // Mohr-Coulomb: Eta, Xi and EtaBar hold sin(phi), cos(phi) and sin(psi).
+  KOKKOS_INLINE_FUNCTION MohrCoulombModel mohrCoulomb(int m) const {
+    return MohrCoulombModel{table(m, Lambda), table(m, Mu),        table(m, Eta),      table(m, Xi),     table(m, EtaBar),
+                            table(m, Yield),  table(m, Hardening), table(m, Residual), table(m, Tension)};
+  }
 
   // s may alias s0.
   template <int Dim>
@@ -86,8 +94,10 @@ struct MaterialLaw {
       neoHookean(m).template stress<Dim>(F, s);
     else if (kind == (int)MaterialModel::J2Plasticity)
       j2(m).template stress<Dim>(G, determinant<Dim>(F), h, s);
-    else
+    else if (kind == (int)MaterialModel::DruckerPrager)
       druckerPrager(m).template stress<Dim>(G, determinant<Dim>(F), h, s);
+    else
+      mohrCoulomb(m).template stress<Dim>(G, determinant<Dim>(F), h, s);
   }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION void tangent(int m, double J,
@@ -99,8 +109,10 @@ struct MaterialLaw {
       neoHookean(m).template tangent<Dim>(J, D);
     else if (kind == (int)MaterialModel::J2Plasticity)
       j2(m).template tangent<Dim>(J, D);
-    else
+    else if (kind == (int)MaterialModel::DruckerPrager)
       druckerPrager(m).template tangent<Dim>(J, D);
+    else
+      mohrCoulomb(m).template tangent<Dim>(J, D);
   }
   template <int Dim>
   KOKKOS_INLINE_FUNCTION void tangent(int m, const double (&G)[Dim][Dim], double J, const double* h,
@@ -109,6 +121,8 @@ struct MaterialLaw {
       j2(m).template tangent<Dim>(G, J, h, D);
     else if (model(m) == (int)MaterialModel::DruckerPrager)
       druckerPrager(m).template tangent<Dim>(G, J, h, D);
+    else if (model(m) == (int)MaterialModel::MohrCoulomb)
+      mohrCoulomb(m).template tangent<Dim>(G, J, h, D);
     else
       tangent<Dim>(m, J, D);
   }
@@ -123,7 +137,8 @@ struct MaterialLaw {
     if (kind == (int)MaterialModel::LinearElastic) return linearElastic(m).template energyDensity<Dim>(s);
     if (kind == (int)MaterialModel::NeoHookean) return neoHookean(m).template energyDensity<Dim>(F);
     if (kind == (int)MaterialModel::J2Plasticity) return j2(m).energyDensity(h, determinant<Dim>(F));
-    return druckerPrager(m).energyDensity(h, determinant<Dim>(F));
+    if (kind == (int)MaterialModel::DruckerPrager) return druckerPrager(m).energyDensity(h, determinant<Dim>(F));
+    return mohrCoulomb(m).energyDensity(h, determinant<Dim>(F));
   }
 };
 
@@ -154,6 +169,16 @@ class Materials {
         h(m, Law::Yield) = params_[m].cohesion;
         h(m, Law::Hardening) = params_[m].cohesionModulus;
         h(m, Law::Residual) = params_[m].residualCohesion;
+      }
+      if (params_[m].model == MaterialModel::MohrCoulomb) {
+        const double degree = 3.141592653589793 / 180.0;
+        h(m, Law::Eta) = std::sin(params_[m].frictionAngle * degree);
+        h(m, Law::Xi) = std::cos(params_[m].frictionAngle * degree);
+        h(m, Law::EtaBar) = std::sin(params_[m].dilatancyAngle * degree);
+        h(m, Law::Yield) = params_[m].cohesion;
+        h(m, Law::Hardening) = params_[m].cohesionModulus;
+        h(m, Law::Residual) = params_[m].residualCohesion;
+        h(m, Law::Tension) = params_[m].tensionCutoff;
       }
     }
     Kokkos::deep_copy(law_.table, h);

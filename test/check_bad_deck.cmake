@@ -20,7 +20,7 @@ function(run_and_check name deck output np expected_rc key)
     separate_arguments(flags UNIX_COMMAND "${MPIEXEC_FLAGS}")
     set(command "${MPIEXEC}" ${flags} -np ${np} "${IMPM}")
   endif()
-  # A hang (issue 11: a rank left waiting in a barrier) fails here instead of at ctest's timeout.
+  # A hang (a rank left waiting in a barrier) fails here instead of at ctest's timeout.
   execute_process(COMMAND ${command} "${WORK}/${name}.yaml" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
                   TIMEOUT 120)
   if(NOT rc STREQUAL "${expected_rc}")
@@ -95,7 +95,7 @@ else()
   expect_failure(muelu_unavailable "  Output:" "  Implicit Solver:\n    Preconditioner: MUELU\n  Output:" "Implicit Solver/Preconditioner")
 endif()
 
-# The Materials / Bodies form (issue 8), on the colliding-disks deck.
+# The Materials / Bodies form, on the colliding-disks deck.
 set(good "${good_disks}")
 expect_failure(unknown_material "      Material: elastic\n      Center X: 0.75" "      Material: rubber\n      Center X: 0.75" "Bodies/upper disk/Material")
 expect_failure(disk_outside "Center X: 0.75" "Center X: 0.85" "Bodies/upper disk")
@@ -104,7 +104,7 @@ expect_failure(empty_polygon "    upper disk:\n      Shape: Ellipse" "    upper 
 expect_failure(missing_file "    upper disk:\n      Shape: Ellipse" "    upper disk:\n      Shape: Particles File\n      File: ${WORK}/no_such.csv" "Bodies/upper disk/File")
 expect_failure(mixed_forms "  Materials:" "  Body:\n    X Max: 0.5\n  Materials:" "'Body' is the single-body form")
 
-# Issue 11. The output directory cannot be created: checked on rank 0 before any work, every
+# The output directory cannot be created: checked on rank 0 before any work, every
 # rank ends with the same message (it hung at np 2).
 file(WRITE "${WORK}/a_file" "not a directory\n")
 set(good "${good_bar}")
@@ -140,7 +140,7 @@ set(good "${good_bar}")
 expect_failure(newmark_unstable "Type: Explicit" "Type: Implicit\n    Implicit:\n      Newmark Beta: 0.25\n      Newmark Gamma: 0.7"
                "'Integrator/Implicit/Newmark Beta' = 0.25 and 'Newmark Gamma' = 0.7")
 set(good "${good_disks}")
-# Issue 10. A rank grid that leaves a rank without cells (the bar has one cell across y), and
+# A rank grid that leaves a rank without cells (the bar has one cell across y), and
 # requested rank counts that do not multiply to the number of ranks.
 set(good "${good_bar}")
 expect_failure(rank_without_cells "  Output:" "  Decomposition:\n    Ranks Y: 2\n  Output:" "'Grid/Cells Y' = 1" NP 2)
@@ -163,7 +163,7 @@ string(REPLACE "  Grid:" "    Memory Limit GB: 1\n  Grid:" good "${good_bar}")
 expect_failure(memory_limit "${ppc}" "Particles Per Cell X: 500\n    Particles Per Cell Y: 500"
                "'Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 500 x 500), more than 'Problem/Memory Limit GB' = 1" NP 2)
 
-# 3D decks (issue 8): a 2D-only option or shape, a bad dimension, a z key on a 2D grid.
+# 3D decks: a 2D-only option or shape, a bad dimension, a z key on a 2D grid.
 file(READ "${SRC}/../apps/bar3d_explicit_mpm.yaml" good_bar3d)
 file(READ "${SRC}/../apps/bar3d_implicit_gimp.yaml" good_bar3d_implicit_gimp)
 set(good "${good_bar3d}")
@@ -243,11 +243,30 @@ expect_failure(dp_dilatancy_above_friction "Model: Neo-Hookean" "Model: Drucker-
 expect_failure(dp_negative_cohesion "Model: Neo-Hookean" "Model: Drucker-Prager\n      Friction Angle: 30.0\n      Cohesion: -1.0"
                "'Materials/soil/Cohesion' must not be negative")
 expect_failure(dp_steep_softening "Model: Neo-Hookean" "${dp}\n      Cohesion Modulus: -1.0e12"
-               "'Materials/soil/Cohesion Modulus' softens faster than the cone and apex returns allow")
+               "'Materials/soil/Cohesion Modulus' softens faster than the returns allow")
 expect_failure(dp_unknown_cone "Model: Neo-Hookean" "${dp}\n      Cone: Middle"
                "Cone")
 expect_failure(dp_key_on_j2 "Model: Neo-Hookean" "Model: J2 Plasticity\n      Yield Stress: 1.0e5\n      Cone: Outer"
                "'Materials/soil/Cone' is a Drucker-Prager parameter")
+# Mohr-Coulomb: the shared checks, a tension cutoff between 0 and the apex c cot(phi), and no
+# Drucker-Prager key.
+set(mc "Model: Mohr-Coulomb\n      Cohesion: 1.0e4\n      Friction Angle: 30.0\n      Dilatancy Angle: 10.0")
+expect_failure(mc_friction_angle_90 "Model: Neo-Hookean" "Model: Mohr-Coulomb\n      Cohesion: 1.0e4\n      Friction Angle: 90.0"
+               "'Materials/soil/Friction Angle' must lie in [0, 90) degrees, got 90")
+expect_failure(mc_dilatancy_above_friction "Model: Neo-Hookean" "Model: Mohr-Coulomb\n      Friction Angle: 30.0\n      Dilatancy Angle: 40.0"
+               "'Materials/soil/Dilatancy Angle' must lie in [0, Friction Angle = 30] degrees, got 40")
+expect_failure(mc_negative_cohesion "Model: Neo-Hookean" "Model: Mohr-Coulomb\n      Friction Angle: 30.0\n      Cohesion: -5.0"
+               "'Materials/soil/Cohesion' must not be negative, got -5")
+expect_failure(mc_steep_softening "Model: Neo-Hookean" "${mc}\n      Cohesion Modulus: -1.0e12"
+               "'Materials/soil/Cohesion Modulus' softens faster than the returns allow")
+expect_failure(mc_cutoff_above_apex "Model: Neo-Hookean" "${mc}\n      Tension Cutoff: 1.0e5"
+               "'Materials/soil/Tension Cutoff' must lie in (0, Cohesion cot(Friction Angle) = ")
+expect_failure(mc_negative_cutoff "Model: Neo-Hookean" "${mc}\n      Tension Cutoff: -1.0"
+               "'Materials/soil/Tension Cutoff' must lie in (0, Cohesion cot(Friction Angle) = ")
+expect_failure(mc_cone_key "Model: Neo-Hookean" "${mc}\n      Cone: Outer"
+               "'Materials/soil/Cone' is a Drucker-Prager parameter")
+expect_failure(mc_cutoff_on_dp "Model: Neo-Hookean" "${dp}\n      Tension Cutoff: 1.0e3"
+               "'Materials/soil/Tension Cutoff' is a Mohr-Coulomb parameter")
 # F-bar: plane strain or 3D, material points, Jacobian-free Newton.
 file(READ "${SRC}/../apps/bar_explicit_mpm_plane_stress.yaml" good)
 expect_failure(fbar_plane_stress "    Shape Function: MPM" "    Shape Function: MPM\n    Volumetric Locking: F-bar"

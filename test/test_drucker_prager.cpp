@@ -21,7 +21,10 @@
 namespace {
 
 using namespace impm;
+using impm_test::compress;
 using impm_test::ElastoplasticDriver;
+using impm_test::ElementTest;
+using impm_test::principalStretch;
 using impm_test::tangentMismatch;
 
 constexpr double kDegree = 3.141592653589793 / 180.0;
@@ -35,71 +38,6 @@ MaterialParameters soil(double c, double phi, double psi, DruckerPragerCone cone
   p.cohesionModulus = H;
   p.residualCohesion = cr;
   return p;
-}
-
-// The deformation gradient of principal log strains: axial (last axis) and lateral (the others).
-template <int Dim>
-void principalStretch(double axial, double lateral, double (&F)[Dim][Dim]) {
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j) F[i][j] = i != j ? 0.0 : std::exp(i == Dim - 1 ? axial : lateral);
-}
-
-// Kirchhoff stress component (i, i) of the driver's state.
-template <int Dim>
-double kirchhoff(const ElastoplasticDriver<Dim>& d, int i) {
-  return determinant<Dim>(d.F) * d.s[StressLayout<Dim>::index(i, i)];
-}
-
-// Mixed control: the axial log strain is stepped; the lateral log strain (x, and y in 3D) is
-// found by Newton (derivative by differences) so that the lateral Kirchhoff stress is -sigma3.
-template <int Dim>
-double stepHoldingConfinement(ElastoplasticDriver<Dim>& d, double axial, double lateral, double sigma3) {
-  auto lateralStress = [&](double e) {
-    ElastoplasticDriver<Dim> trial = d;
-    double F[Dim][Dim];
-    principalStretch<Dim>(axial, e, F);
-    trial.stepTo(F);
-    return kirchhoff(trial, 0) + sigma3;
-  };
-  for (int it = 0; it < 30; ++it) {
-    const double g = lateralStress(lateral);
-    if (std::abs(g) < 1e-10 * sigma3) break;
-    const double de = 1e-9, slope = (lateralStress(lateral + de) - g) / de;
-    lateral -= g / slope;
-  }
-  double F[Dim][Dim];
-  principalStretch<Dim>(axial, lateral, F);
-  d.stepTo(F);
-  return lateral;
-}
-
-struct ElementTest {
-  double strength, dilatancy;  // sigma_1 (compression positive) and d(eps_v) / d(eps_axial), both at the end
-  double alpha;
-};
-
-// Isotropic compression to sigma3 (elastic), then axial compression to `axialEnd` in `steps`.
-template <int Dim>
-ElementTest compress(const Materials& materials, double sigma3, double axialEnd, int steps) {
-  ElastoplasticDriver<Dim> d(materials.law());
-  const double mu = materials.c33(0), K = materials.c12(0) + 2 * mu / 3;
-  // Plane strain: the in-plane isotropic state is not isotropic in 3D; Newton on the lateral
-  // strain finds it (its first step).
-  double axial = -sigma3 / (3 * K), lateral = axial;
-  if (Dim == 3) {
-    double F[Dim][Dim];
-    principalStretch<Dim>(axial, lateral, F);
-    d.stepTo(F);
-  }
-  double volumePrevious = 0, axialPrevious = 0;
-  for (int k = 1; k <= steps; ++k) {
-    volumePrevious = axial + (Dim - 1) * lateral;
-    axialPrevious = axial;
-    axial = -sigma3 / (3 * K) + axialEnd * k / steps;
-    lateral = stepHoldingConfinement<Dim>(d, axial, lateral, sigma3);
-  }
-  const double volume = axial + (Dim - 1) * lateral;
-  return {-kirchhoff(d, Dim - 1), (volume - volumePrevious) / (axial - axialPrevious), d.h[kHenckyInternal]};
 }
 
 void checkElementTest(bool plane, double c, double phi, double psi, bool assertStrength, Teuchos::FancyOStream& out,

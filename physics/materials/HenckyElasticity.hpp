@@ -1,5 +1,5 @@
 // The Hencky (logarithmic) elasticity shared by the finite-strain elastoplastic models (J2,
-// Drucker-Prager): the multiplicative split F = F_e F_p with the elastic left Cauchy-Green tensor
+// Drucker-Prager, Mohr-Coulomb): the multiplicative split F = F_e F_p with the elastic left Cauchy-Green tensor
 // b_e as the particle's history, the principal Kirchhoff stresses tau_A = K tr(eps) + 2 mu
 // dev(eps)_A of the elastic log strains eps_A = ln lambda_A, and the return maps written in those
 // principal axes, where they are the small-strain ones exactly (Simo 1992; Simo & Hughes 1998,
@@ -143,12 +143,13 @@ KOKKOS_INLINE_FUNCTION double henckyEnergyDensity(double lambda, double mu, cons
 // stiffness kernel's geometric term the matrix is the exact derivative of the internal force.
 // For a symmetric rate d (db^trial = d b + b d), in the principal frame:
 //   normal:  c_AABB = a_AB - 2 tau_A delta_AB,   a_AB = d tau_A / d eps_B^trial (the model's);
-//   shear:   (c : d)_AB = (twoMuBeta x coth x - tau_A - tau_B) d_AB,  x = eps_A^trial - eps_B^trial,
-//            from (tau_A - tau_B) / (b_A - b_B) (b_A + b_B) with tau_A - tau_B = twoMuBeta x
-//            (smooth as b_A -> b_B: x coth x -> 1).
+//   shear:   (c : d)_AB = (r_AB x coth x - tau_A - tau_B) d_AB,  x = eps_A^trial - eps_B^trial,
+//            from (tau_A - tau_B) / (b_A - b_B) (b_A + b_B) with r_AB = (tau_A - tau_B) / x
+//            (smooth as b_A -> b_B: x coth x -> 1). J2 and Drucker-Prager have one ratio for
+//            every pair (tau_A - tau_B = twoMuBeta x); Mohr-Coulomb gives each pair its own.
 template <int Dim>
 KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const double (&epsTrial)[3], const double (&tau)[3],
-                                          const double (&a)[3][3], double twoMuBeta, double J,
+                                          const double (&a)[3][3], const double (&ratio)[3][3], double J,
                                           double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
   using SL = StressLayout<Dim>;
   double normal[3][3], shear[3][3];  // principal frame: c_AABB, and the factors of d_AB (A != B)
@@ -157,7 +158,7 @@ KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const do
       normal[p][q] = a[p][q] - (p == q ? 2.0 * tau[p] : 0.0);
       const double x = epsTrial[p] - epsTrial[q];
       const double xCothX = std::fabs(x) < 1e-6 ? 1.0 + x * x / 3.0 : x / std::tanh(x);
-      shear[p][q] = twoMuBeta * xCothX - tau[p] - tau[q];
+      shear[p][q] = ratio[p][q] * xCothX - tau[p] - tau[q];
     }
   const double invJ = 1.0 / J;
   for (int v = 0; v < SL::voigt; ++v) {
@@ -184,6 +185,16 @@ KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const do
       D[w][v] = cij * invJ;
     }
   }
+}
+
+// The same with one ratio for every pair: tau_A - tau_B = twoMuBeta (eps_A^trial - eps_B^trial).
+template <int Dim>
+KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const double (&epsTrial)[3], const double (&tau)[3],
+                                          const double (&a)[3][3], double twoMuBeta, double J,
+                                          double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
+  const double ratio[3][3] = {{twoMuBeta, twoMuBeta, twoMuBeta}, {twoMuBeta, twoMuBeta, twoMuBeta},
+                              {twoMuBeta, twoMuBeta, twoMuBeta}};
+  henckyTangent<Dim>(n, epsTrial, tau, a, ratio, J, D);
 }
 
 }  // namespace impm

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/DeckSchema.hpp"
@@ -30,52 +31,96 @@ void readJ2(const ParameterList& m, const std::string& key, MaterialParameters& 
 
 const char* const kConeNames[] = {"Plane Strain", "Outer", "Inner"};
 
-void addDruckerPragerParameters(ParameterList& pl) {
-  schema::number(pl, "Cohesion", 0.0, "Drucker-Prager: cohesion c_0 (Pa, >= 0)");
-  schema::number(pl, "Friction Angle", 0.0, "Drucker-Prager: friction angle phi (degrees, in (0, 90))");
-  schema::number(pl, "Dilatancy Angle", 0.0, "Drucker-Prager: dilatancy angle psi (degrees, in [0, Friction Angle]; = phi: associated flow)");
-  schema::choice(pl, "Cone", kConeNames[0], {kConeNames[0], kConeNames[1], kConeNames[2]},
-                 "Drucker-Prager: the cone's match to Mohr-Coulomb. Plane Strain: the Mohr-Coulomb collapse load in plane "
-                 "strain (associated flow); Outer: the compressive meridian (triaxial compression); Inner: the extensive "
-                 "meridian (triaxial extension)");
+// The keys Drucker-Prager and Mohr-Coulomb share (schema order: Cone after Dilatancy Angle).
+void addFrictionParameters(ParameterList& pl, bool withCone) {
+  const std::string both = "Drucker-Prager, Mohr-Coulomb: ";
+  schema::number(pl, "Cohesion", 0.0, both + "cohesion c_0 (Pa, >= 0)");
+  schema::number(pl, "Friction Angle", 0.0,
+                 both + "friction angle phi (degrees, in (0, 90); Mohr-Coulomb also 0: Tresca, with c the undrained strength)");
+  schema::number(pl, "Dilatancy Angle", 0.0, both + "dilatancy angle psi (degrees, in [0, Friction Angle]; = phi: associated flow)");
+  if (withCone)
+    schema::choice(pl, "Cone", kConeNames[0], {kConeNames[0], kConeNames[1], kConeNames[2]},
+                   "Drucker-Prager: the cone's match to Mohr-Coulomb. Plane Strain: the Mohr-Coulomb collapse load in plane "
+                   "strain (associated flow); Outer: the compressive meridian (triaxial compression); Inner: the extensive "
+                   "meridian (triaxial extension)");
   schema::number(pl, "Cohesion Modulus", 0.0,
-                 "Drucker-Prager: dc/dalpha, the cohesion's linear change with the equivalent plastic strain (Pa; negative: "
-                 "softening, down to Residual Cohesion)");
-  schema::number(pl, "Residual Cohesion", 0.0, "Drucker-Prager: the cohesion softening stops at (Pa, in [0, Cohesion])");
+                 both + "dc/dalpha, the cohesion's linear change with the equivalent plastic strain (Pa; negative: "
+                        "softening, down to Residual Cohesion)");
+  schema::number(pl, "Residual Cohesion", 0.0, both + "the cohesion softening stops at (Pa, in [0, Cohesion])");
 }
 
-void readDruckerPrager(const ParameterList& m, const std::string& key, MaterialParameters& p) {
-  const auto fail = [&](const std::string& k, const std::string& what, double v) {
-    throw DeckError("'" + key + "/" + k + "' " + what + ", got " + formatNumber(v));
-  };
+void addDruckerPragerParameters(ParameterList& pl) { addFrictionParameters(pl, true); }
+
+void addMohrCoulombParameters(ParameterList& pl) {
+  addFrictionParameters(pl, true);  // the shared keys keep their place (set again, same values)
+  schema::number(pl, "Tension Cutoff", 0.0,
+                 "Mohr-Coulomb: the largest principal stress the soil carries, t (Pa, in (0, Cohesion cot(Friction "
+                 "Angle))); 0: no cutoff but Mohr-Coulomb's apex c cot(phi)");
+}
+
+[[noreturn]] void failKey(const std::string& key, const std::string& k, const std::string& what, double v) {
+  throw DeckError("'" + key + "/" + k + "' " + what + ", got " + formatNumber(v));
+}
+
+// The shared keys read and checked (Mohr-Coulomb takes phi = 0: Tresca).
+void readFriction(const ParameterList& m, const std::string& key, MaterialParameters& p, bool zeroFriction) {
   p.cohesion = m.get<double>("Cohesion");
   p.frictionAngle = m.get<double>("Friction Angle");
   p.dilatancyAngle = m.get<double>("Dilatancy Angle");
   p.cohesionModulus = m.get<double>("Cohesion Modulus");
   p.residualCohesion = m.get<double>("Residual Cohesion");
-  if (!(p.cohesion >= 0)) fail("Cohesion", "must not be negative", p.cohesion);
-  if (!(p.frictionAngle > 0 && p.frictionAngle < 90)) fail("Friction Angle", "must lie in (0, 90) degrees", p.frictionAngle);
+  if (!(p.cohesion >= 0)) failKey(key, "Cohesion", "must not be negative", p.cohesion);
+  if (!((zeroFriction ? p.frictionAngle >= 0 : p.frictionAngle > 0) && p.frictionAngle < 90))
+    failKey(key, "Friction Angle", zeroFriction ? "must lie in [0, 90) degrees" : "must lie in (0, 90) degrees",
+            p.frictionAngle);
   if (!(p.dilatancyAngle >= 0 && p.dilatancyAngle <= p.frictionAngle))
-    fail("Dilatancy Angle", "must lie in [0, Friction Angle = " + formatNumber(p.frictionAngle) + "] degrees", p.dilatancyAngle);
+    failKey(key, "Dilatancy Angle", "must lie in [0, Friction Angle = " + formatNumber(p.frictionAngle) + "] degrees",
+            p.dilatancyAngle);
   if (!(p.residualCohesion >= 0 && p.residualCohesion <= p.cohesion))
-    fail("Residual Cohesion", "must lie in [0, Cohesion = " + formatNumber(p.cohesion) + "]", p.residualCohesion);
-  if (!std::isfinite(p.cohesionModulus)) fail("Cohesion Modulus", "must be a number", p.cohesionModulus);
+    failKey(key, "Residual Cohesion", "must lie in [0, Cohesion = " + formatNumber(p.cohesion) + "]", p.residualCohesion);
+  if (!std::isfinite(p.cohesionModulus)) failKey(key, "Cohesion Modulus", "must be a number", p.cohesionModulus);
+}
+
+// Softening steeper than `limit` has no unique return (the yield surface would shrink faster than
+// the elastic trial state relaxes).
+void checkSoftening(const std::string& key, double modulus, double limit) {
+  if (!(modulus > limit))
+    failKey(key, "Cohesion Modulus", "softens faster than the returns allow (must exceed " + formatNumber(limit) + " Pa)",
+            modulus);
+}
+
+void readDruckerPrager(const ParameterList& m, const std::string& key, MaterialParameters& p) {
+  readFriction(m, key, p, false);
   const std::string cone = m.get<std::string>("Cone");
   for (int c = 0; c < 3; ++c)
     if (cone == kConeNames[c]) p.cone = DruckerPragerCone(c);
   // The cone's return divides by mu + K eta etaBar + xi^2 H, the apex's (etaBar > 0) by K + xi^2 H /
-  // (eta etaBar): softening steeper than either allows has no unique return (the yield surface
-  // would shrink faster than the elastic trial state relaxes).
+  // (eta etaBar).
   const double degree = 3.141592653589793 / 180.0, mu = p.E / (2 * (1 + p.nu)), K = p.E / (3 * (1 - 2 * p.nu));
   double eta = 0, xi = 0, etaBar = 0, xiBar = 0;
   DruckerPragerModel::coneSlopes(p.cone, p.frictionAngle * degree, eta, xi);
   DruckerPragerModel::coneSlopes(p.cone, p.dilatancyAngle * degree, etaBar, xiBar);
   const double coneLimit = -(mu + K * eta * etaBar) / (xi * xi);
   const double apexLimit = etaBar > 0 ? -K * eta * etaBar / (xi * xi) : coneLimit;
-  const double limit = std::max(coneLimit, apexLimit);
-  if (!(p.cohesionModulus > limit))
-    fail("Cohesion Modulus", "softens faster than the cone and apex returns allow (must exceed " + formatNumber(limit) + " Pa)",
-         p.cohesionModulus);
+  checkSoftening(key, p.cohesionModulus, std::max(coneLimit, apexLimit));
+}
+
+void readMohrCoulomb(const ParameterList& m, const std::string& key, MaterialParameters& p) {
+  readFriction(m, key, p, true);
+  // The main plane's return divides by 4 (lambda sin phi sin psi + mu (1 + sin phi sin psi)) +
+  // 4 cos^2(phi) H, the apex's (psi > 0) by K + H cos(phi) cot(phi) / sin(psi).
+  const double degree = 3.141592653589793 / 180.0, mu = p.E / (2 * (1 + p.nu)), K = p.E / (3 * (1 - 2 * p.nu));
+  const double lambda = K - 2 * mu / 3, sp = std::sin(p.frictionAngle * degree), cp = std::cos(p.frictionAngle * degree);
+  const double sd = std::sin(p.dilatancyAngle * degree);
+  const double planeLimit = -(lambda * sp * sd + mu * (1 + sp * sd)) / (cp * cp);
+  const double apexLimit = sd > 0 ? -K * sd * sp / (cp * cp) : planeLimit;
+  checkSoftening(key, p.cohesionModulus, std::max(planeLimit, apexLimit));
+  p.tensionCutoff = m.get<double>("Tension Cutoff");
+  const double apex = sp > 0 ? p.cohesion * cp / sp : std::numeric_limits<double>::infinity();
+  if (!(p.tensionCutoff >= 0 && p.tensionCutoff < apex) && p.tensionCutoff != 0.0)
+    failKey(key, "Tension Cutoff",
+            "must lie in (0, Cohesion cot(Friction Angle) = " + formatNumber(apex) + ") Pa, or be 0 (no cutoff)",
+            p.tensionCutoff);
 }
 
 }  // namespace
@@ -99,6 +144,14 @@ const std::vector<MaterialModelInfo>& materialModels() {
        true, DruckerPragerModel::historyCount, addDruckerPragerParameters,
        {"Cohesion", "Friction Angle", "Dilatancy Angle", "Cone", "Cohesion Modulus", "Residual Cohesion"},
        readDruckerPrager},
+      {MaterialModel::MohrCoulomb, "Mohr-Coulomb",
+       "Mohr-Coulomb elastoplasticity for soils at finite strain (the J2 model's Hencky elasticity; the six planes with "
+       "their edge and apex returns, non-associated flow through the dilatancy angle, an optional tension cutoff, "
+       "linear cohesion hardening or softening: Cohesion, Friction Angle, Dilatancy Angle, Cohesion Modulus, Residual "
+       "Cohesion, Tension Cutoff)",
+       true, MohrCoulombModel::historyCount, addMohrCoulombParameters,
+       {"Cohesion", "Friction Angle", "Dilatancy Angle", "Cohesion Modulus", "Residual Cohesion", "Tension Cutoff"},
+       readMohrCoulomb},
   };
   static const bool historyFits = std::all_of(models.begin(), models.end(), [](const MaterialModelInfo& m) {
     return m.historyWidth <= ParticleSet::kHistoryCount;
@@ -179,7 +232,8 @@ MaterialParameters readMaterial(const ParameterList& m, const std::string& key,
   for (const auto& other : materialModels()) {
     if (&other == model) continue;
     for (const auto& k : other.parameterKeys)
-      if (m.isParameter(k) && (m.isType<double>(k) ? m.get<double>(k) != 0.0
+      if (std::find(model->parameterKeys.begin(), model->parameterKeys.end(), k) == model->parameterKeys.end() &&
+          m.isParameter(k) && (m.isType<double>(k) ? m.get<double>(k) != 0.0
                                                    : m.get<std::string>(k) != materialSchema()->get<std::string>(k)))
         throw DeckError("'" + key + "/" + k + "' is a " + other.name + " parameter; 'Model' = " + name + " does not use it");
   }
