@@ -17,7 +17,8 @@
 //
 // Sample run:   build/apps/impm_bench_explicit            (spawns itself once per thread count)
 //               build/apps/impm_bench_explicit --case mpm2d --steps 400   (one case: mpm2d, gimp2d,
-//                 mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, mc-2d, j2-3d, dp-3d, mc-3d, contact2d)
+//                 mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, mc-2d, j2-3d, dp-3d, mc-3d, contact2d,
+//                 apic-gimp2d, tpic-gimp2d, xpic-gimp2d)
 //               build/apps/impm_bench_explicit --child --kokkos-threads=2 --steps 200
 //               build/apps/impm_bench_explicit --case mpm2d --timers   (adds the time of each
 //                 phase: p2g, grid update, g2p, ...; Teuchos::TimeMonitor, summed over the repeats)
@@ -58,7 +59,8 @@ long residentKiB() {
 
 template <class Shape, int Dim>
 void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-             impm::MaterialModel model = impm::MaterialModel::LinearElastic, bool contact = false) {
+             impm::MaterialModel model = impm::MaterialModel::LinearElastic, bool contact = false,
+             impm::ParticleTransfer transfer = impm::ParticleTransfer::FlipPic) {
   using namespace impm;
   const long rss0 = residentKiB();
   StructuredGrid g;
@@ -98,6 +100,7 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
   const LoadSpec load = LoadSpec::faceTraction("end", body, "x+", 1.0, 0.0);
   LoadSet loads({load}, dist, {-1}, 1);
   ExplicitOptions opt;
+  opt.transfer = transfer;
   ExplicitStepper<Shape, Dim> stepper(ps, dist, mat, bc, loads, opt);
   const double dt = 0.2 * g.hx / mat.pWaveSpeed(0);
   for (int n = 0; n < 5; ++n) stepper.step(n * dt, dt);  // warm-up (first-touch, allocations)
@@ -117,7 +120,12 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
   const auto rate = [&](double sec) { return double(ps.count) * steps / sec / 1e6; };
   std::printf("%-5s %dD %-14s%s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s "
               "(best of %d; median %.2f, worst %.2f)  view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
-              Shape::name, Dim, Materials::modelName(model).c_str(), contact ? " 2 fields" : "",
+              Shape::name, Dim, Materials::modelName(model).c_str(),
+              contact                                  ? " 2 fields"
+              : transfer == ParticleTransfer::Apic ? " APIC"
+              : transfer == ParticleTransfer::Tpic ? " TPIC"
+              : transfer == ParticleTransfer::Xpic ? " XPIC(5)"
+                                                   : "",
               (int)ExecutionSpace::concurrency(), ps.count, steps,
               seconds.front(), rate(seconds.front()), repeats, rate(seconds[seconds.size() / 2]), rate(seconds.back()),
               ParticleSet::bytesPerParticle(Dim), 1024.0 * (rss1 - rss0) / ps.count);
@@ -179,7 +187,7 @@ void printHostState(const char* when) {
 }
 
 void printUsage() {
-  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|dp-2d|mc-2d|j2-3d|dp-3d|mc-3d|contact2d] [--steps N] "
+  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|dp-2d|mc-2d|j2-3d|dp-3d|mc-3d|contact2d|apic-gimp2d|tpic-gimp2d|xpic-gimp2d] [--steps N] "
               "[--repeat N] [--timers]\n"
               "  runs each case at 1 and 2 OpenMP threads (one child process per thread count) and prints\n"
               "  M particle-steps/s (best, median and worst of N timed repeats, default 3) and bytes per\n"
@@ -192,8 +200,8 @@ int main(int argc, char** argv) {
   bool child = false, timers = false;
   int steps = 200, repeats = 3;
   std::string only;
-  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d", "gimp3d", "neohookean2d", "j2-2d", "dp-2d", "mc-2d",
-                         "j2-3d",  "dp-3d",  "mc-3d", "contact2d"};
+  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d",  "gimp3d",    "neohookean2d", "j2-2d",      "dp-2d",
+                         "mc-2d", "j2-3d",  "dp-3d",  "mc-3d",     "contact2d",    "apic-gimp2d", "tpic-gimp2d", "xpic-gimp2d"};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--child")) child = true;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
@@ -214,7 +222,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!only.empty() && std::find(std::begin(cases), std::end(cases), only) == std::end(cases)) {
-    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, mc-2d, j2-3d, dp-3d, mc-3d, contact2d)\n",
+    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, mc-2d, j2-3d, dp-3d, mc-3d, contact2d, apic-gimp2d, tpic-gimp2d, xpic-gimp2d)\n",
                  only.c_str());
     return 2;
   }
@@ -278,5 +286,11 @@ int main(int argc, char** argv) {
   if (wanted("mc-3d")) runCase<impm::LinearMpm, 3>(steps, repeats, comm, impm::MaterialModel::MohrCoulomb);
   if (wanted("contact2d"))  // gimp2d's particles as two bodies with multi-field contact
     runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, true);
+  if (wanted("apic-gimp2d"))  // gimp2d with the affine transfers
+    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false, impm::ParticleTransfer::Apic);
+  if (wanted("tpic-gimp2d"))
+    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false, impm::ParticleTransfer::Tpic);
+  if (wanted("xpic-gimp2d"))  // gimp2d with XPIC(5): four more passes over the particles
+    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false, impm::ParticleTransfer::Xpic);
   return 0;
 }

@@ -157,6 +157,7 @@ long long migrateParticles(ParticleSet& ps, const GridDistribution& dist, int sl
   // the order depends only on the decomposition (a restart at the same rank count is bit for bit).
   ParticleSet next(0, ps.dim);
   if (ps.hasHistory()) next.allocateHistory();  // J2's b_e and alpha travel with their particles
+  if (ps.hasAffine()) next.allocateAffine();    // so does the APIC / TPIC affine velocity
   next.unpackAppend(packList(ps, departures.stay));
   for (const auto& rows : arrived) next.unpackAppend(rows);
   ps = next;
@@ -206,6 +207,7 @@ long long sendParticlesToOwners(ParticleSet& ps, const GridDistribution& dist) {
   const ParticleSet::Packed received = rowsFromHost(imports.data(), arriving, width);
   ParticleSet next(0, ps.dim);
   if (ps.hasHistory()) next.allocateHistory();
+  if (ps.hasAffine()) next.allocateAffine();
   next.unpackAppend(kept);
   next.unpackAppend(received);
   ps = next;

@@ -61,6 +61,10 @@ struct ParticleSet {
   Hist history;
   bool historyAllocated = false;
   static constexpr int kHistoryCount = 7;
+  // The affine part C_p of the particle velocity field, v(x) = v_p + C_p (x - x_p), of the APIC
+  // and TPIC transfers (count x dim x dim); empty unless the transfer needs it (allocateAffine).
+  Mat affine;
+  bool affineAllocated = false;
   // Identity: the body and material (indices into the deck's Bodies and Materials) and a global
   // id that does not depend on the MPI decomposition (monitors and particle loads use it).
   Ids body;
@@ -78,6 +82,12 @@ struct ParticleSet {
     Kokkos::parallel_for("init_history", Kokkos::RangePolicy<ExecutionSpace>(0, count), KOKKOS_LAMBDA(int p) {
       h(p, 0) = 1; h(p, 1) = 1; h(p, 3) = 1;  // b_e = I in the stored layout (xx, yy, xy, zz, yz, xz)
     });
+  }
+  bool hasAffine() const { return affineAllocated; }
+  // Allocates the affine velocity matrices, zero.
+  void allocateAffine() {
+    affineAllocated = true;
+    affine = Mat("affine", count, dim, dim);
   }
   int stressCount() const { return stressComponents(dim); }
 
@@ -101,9 +111,10 @@ struct ParticleSet {
 
   // --- ready for migration between ranks: every field of a particle as one row of doubles ---
   // (ids fit a double exactly below 2^53). The scratch `gradient` is not carried; the fixed
-  // particles' `u` is (FE reference), when present.
+  // particles' `u` is (FE reference), the history and the affine matrix are, when present.
   int packedWidth() const {
-    return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0) + (hasHistory() ? kHistoryCount : 0);
+    return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0) + (hasHistory() ? kHistoryCount : 0) +
+           (hasAffine() ? dim * dim : 0);
   }
   using Packed = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;
   // The column of a packed row that holds the position's component d.
@@ -112,7 +123,7 @@ struct ParticleSet {
   // Rows of `buffer` (extent indices.extent(0) x packedWidth()) from the particles `indices`.
   void pack(const Ids& indices, const Packed& buffer) const {
     const ParticleSet ps = *this;
-    const bool withU = fixedPositions(), withHistory = hasHistory();
+    const bool withU = fixedPositions(), withHistory = hasHistory(), withAffine = hasAffine();
     const int nd = dim, ns = stressCount();
     Kokkos::parallel_for(
         "particles_pack", Kokkos::RangePolicy<ExecutionSpace>(0, indices.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -131,6 +142,9 @@ struct ParticleSet {
             for (int d = 0; d < nd; ++d) buffer(k, c++) = ps.u(p, d);
           if (withHistory)
             for (int i = 0; i < kHistoryCount; ++i) buffer(k, c++) = ps.history(p, i);
+          if (withAffine)
+            for (int i = 0; i < nd; ++i)
+              for (int j = 0; j < nd; ++j) buffer(k, c++) = ps.affine(p, i, j);
         });
   }
 
@@ -139,7 +153,7 @@ struct ParticleSet {
     const int first = count;
     resize(count + (int)buffer.extent(0));
     const ParticleSet ps = *this;
-    const bool withU = fixedPositions(), withHistory = hasHistory();
+    const bool withU = fixedPositions(), withHistory = hasHistory(), withAffine = hasAffine();
     const int nd = dim, ns = stressCount();
     Kokkos::parallel_for(
         "particles_unpack", Kokkos::RangePolicy<ExecutionSpace>(0, buffer.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -158,6 +172,9 @@ struct ParticleSet {
             for (int d = 0; d < nd; ++d) ps.u(p, d) = buffer(k, c++);
           if (withHistory)
             for (int i = 0; i < kHistoryCount; ++i) ps.history(p, i) = buffer(k, c++);
+          if (withAffine)
+            for (int i = 0; i < nd; ++i)
+              for (int j = 0; j < nd; ++j) ps.affine(p, i, j) = buffer(k, c++);
         });
   }
 
@@ -169,6 +186,7 @@ struct ParticleSet {
     Kokkos::resize(body, n); Kokkos::resize(material, n); Kokkos::resize(id, n);
     if (fixedPositions()) Kokkos::resize(u, n, dim);
     if (hasHistory()) Kokkos::resize(history, n, kHistoryCount);
+    if (hasAffine()) Kokkos::resize(affine, n, dim, dim);
     count = n;
   }
 
@@ -190,7 +208,7 @@ struct FixedParticleViews {
   static Vec vec(const ParticleSet::Vec& v) { return Vec(v.data(), v.extent(0)); }
 
   Vec x, x0, v, a, halfSize;
-  Mat F, gradient;
+  Mat F, gradient, affine;
   Stress stress;
   ParticleSet::Scal mass, volume0, volume;
   ParticleSet::Ids material;
@@ -199,6 +217,7 @@ struct FixedParticleViews {
   explicit FixedParticleViews(const ParticleSet& ps)
       : x(vec(ps.x)), x0(vec(ps.x0)), v(vec(ps.v)), a(vec(ps.a)), halfSize(vec(ps.halfSize)),
         F(ps.F.data(), ps.F.extent(0)), gradient(ps.gradient.data(), ps.gradient.extent(0)),
+        affine(ps.affine.data(), ps.affine.extent(0)),
         stress(ps.stress.data(), ps.stress.extent(0)), mass(ps.mass), volume0(ps.volume0), volume(ps.volume),
         material(ps.material), history(ps.history) {}
 };

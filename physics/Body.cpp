@@ -74,6 +74,13 @@ std::vector<ParticlePoint> fillBox(const RectangularBody& body, const Structured
   return points;
 }
 
+// omega x r as the skew matrix of omega: C r = omega x r.
+void rotationMatrix(const std::array<double, 3>& omega, double (&C)[3][3]) {
+  C[0][0] = 0.0;       C[0][1] = -omega[2]; C[0][2] = omega[1];
+  C[1][0] = omega[2];  C[1][1] = 0.0;       C[1][2] = -omega[0];
+  C[2][0] = -omega[1]; C[2][1] = omega[0];  C[2][2] = 0.0;
+}
+
 struct TaggedPoint {
   ParticlePoint point;
   int body;
@@ -164,6 +171,14 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
       hs(p, 2) = pt.lz;
       v(p, 2) = body.velocityZ;
     }
+    if (body.angularVelocity != std::array<double, 3>{}) {
+      double C[3][3];
+      rotationMatrix(body.angularVelocity, C);
+      const double r[3] = {pt.x - body.rotationCenter[0], pt.y - body.rotationCenter[1],
+                           g.dim == 3 ? pt.z - body.rotationCenter[2] : 0.0};
+      for (int i = 0; i < g.dim; ++i)
+        for (int j = 0; j < 3; ++j) v(p, i) += C[i][j] * r[j];
+    }
     m(p) = materials.density(body.material) * pt.volume;
     V0(p) = pt.volume;
     bodyId(p) = mine[p]->body;
@@ -181,6 +196,18 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
   Kokkos::deep_copy(ps.material, matId);
   Kokkos::deep_copy(ps.id, gid);
   return ps;
+}
+
+void setRotationAffineVelocity(ParticleSet& ps, const std::vector<BodySpec>& bodies) {
+  auto affine = Kokkos::create_mirror_view(ps.affine);
+  auto bodyId = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.body);
+  for (int p = 0; p < ps.count; ++p) {
+    double C[3][3];
+    rotationMatrix(bodies[bodyId(p)].angularVelocity, C);
+    for (int i = 0; i < ps.dim; ++i)
+      for (int j = 0; j < ps.dim; ++j) affine(p, i, j) = C[i][j];
+  }
+  Kokkos::deep_copy(ps.affine, affine);
 }
 
 ParticleSet createParticles(const RectangularBody& body, const Materials& materials, const GridDistribution& dist) {

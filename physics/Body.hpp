@@ -49,6 +49,9 @@ struct BodySpec {
   std::string particlesFile;               // Particles File bodies
   int material = 0;                        // index into the material table
   double velocityX = 0, velocityY = 0, velocityZ = 0;  // initial velocity
+  // Initial rigid rotation: the particles start with velocity + omega x (x - rotationCenter).
+  std::array<double, 3> angularVelocity{};  // omega (x, y, z); 2D: z only
+  std::array<double, 3> rotationCenter{};
   // A rigid body moves with the velocity rigidVelocity * motion(t) (its particles start with the
   // velocity at t = 0); multi-field contact holds its field to that motion.
   bool rigid = false;
@@ -68,6 +71,10 @@ struct BodySpec {
 // body when one has no particle inside the grid.
 ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials& materials,
                             const GridDistribution& dist, Placement placement, double thickness);
+
+// Sets each particle's affine velocity (ps.affine, allocated) to its body's initial rotation, the
+// skew matrix C with C r = omega x r (zero for a body that does not rotate).
+void setRotationAffineVelocity(ParticleSet& ps, const std::vector<BodySpec>& bodies);
 
 // One rectangular body of material 0 (tests and benchmarks).
 ParticleSet createParticles(const RectangularBody& body, const Materials& materials, const GridDistribution& dist);

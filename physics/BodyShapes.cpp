@@ -77,25 +77,35 @@ class Rectangle : public BodyShape {
 
 class Ellipse : public BodyShape {
  public:
-  Ellipse(double cx, double cy, double a, double b) : cx_(cx), cy_(cy), a_(a), b_(b) {
+  Ellipse(double cx, double cy, double a, double b, double ai, double bi)
+      : cx_(cx), cy_(cy), a_(a), b_(b), ai_(ai), bi_(bi) {
     if (!finite(cx) || !finite(cy)) throw std::invalid_argument("ellipse centre must be finite, got " + point(cx, cy));
     if (!(a > 0) || !(b > 0) || !finite(a) || !finite(b))
       throw std::invalid_argument("ellipse semi-axes must be positive and finite, got a = " + num(a) + ", b = " + num(b));
+    // A hole needs both inner semi-axes, inside the outer ones (a ring of positive width).
+    const bool hole = ai != 0.0 || bi != 0.0;
+    if (hole && !(ai > 0 && bi > 0 && ai < a && bi < b))
+      throw std::invalid_argument("ring inner semi-axes must be positive and below the outer ones (" + num(a) + ", " +
+                                  num(b) + "), got " + num(ai) + ", " + num(bi));
   }
   bool contains(double x, double y) const override {
     const double u = (x - cx_) / a_, v = (y - cy_) / b_;
-    return u * u + v * v <= 1.0;
+    if (u * u + v * v > 1.0) return false;
+    if (ai_ == 0.0) return true;
+    const double ui = (x - cx_) / ai_, vi = (y - cy_) / bi_;
+    return ui * ui + vi * vi >= 1.0;
   }
-  double area() const override { return kPi * a_ * b_; }
+  double area() const override { return kPi * (a_ * b_ - ai_ * bi_); }
   void boundingBox(double& xlo, double& xhi, double& ylo, double& yhi) const override {
     xlo = cx_ - a_, xhi = cx_ + a_, ylo = cy_ - b_, yhi = cy_ + b_;
   }
   std::string describe() const override {
-    return "ellipse centre " + point(cx_, cy_) + ", semi-axes " + num(a_) + " x " + num(b_);
+    const std::string outer = "centre " + point(cx_, cy_) + ", semi-axes " + num(a_) + " x " + num(b_);
+    return ai_ == 0.0 ? "ellipse " + outer : "ring " + outer + ", inner " + num(ai_) + " x " + num(bi_);
   }
 
  private:
-  double cx_, cy_, a_, b_;
+  double cx_, cy_, a_, b_, ai_, bi_;
 };
 
 using Vertex = std::array<double, 2>;
@@ -201,8 +211,8 @@ std::unique_ptr<BodyShape> makeRectangle(double xMin, double xMax, double yMin, 
   return std::make_unique<Rectangle>(xMin, xMax, yMin, yMax);
 }
 
-std::unique_ptr<BodyShape> makeEllipse(double cx, double cy, double a, double b) {
-  return std::make_unique<Ellipse>(cx, cy, a, b);
+std::unique_ptr<BodyShape> makeEllipse(double cx, double cy, double a, double b, double innerA, double innerB) {
+  return std::make_unique<Ellipse>(cx, cy, a, b, innerA, innerB);
 }
 
 std::unique_ptr<BodyShape> makePolygon(const std::vector<std::array<double, 2>>& vertices) {

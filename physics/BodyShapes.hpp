@@ -42,8 +42,10 @@ class BodyShape {
 // Axis-aligned rectangle [xMin, xMax] x [yMin, yMax] (closed).
 std::unique_ptr<BodyShape> makeRectangle(double xMin, double xMax, double yMin, double yMax);
 
-// Ellipse with centre (cx, cy) and semi-axes a (along x), b (along y); a disk when a == b.
-std::unique_ptr<BodyShape> makeEllipse(double cx, double cy, double a, double b);
+// Ellipse with centre (cx, cy) and semi-axes a (along x), b (along y); a disk when a == b. With
+// inner semi-axes (both > 0, below a and b), a ring: the ellipse less the inner one of the same centre.
+std::unique_ptr<BodyShape> makeEllipse(double cx, double cy, double a, double b, double innerA = 0.0,
+                                       double innerB = 0.0);
 
 // Simple polygon, vertices in either orientation, not closed (the last vertex is not a repeat of
 // the first). Rejected: fewer than 3 vertices, a non-finite coordinate, repeated consecutive

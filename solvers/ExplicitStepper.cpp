@@ -22,6 +22,20 @@ ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridD
   if (fieldCount_ > 1 && opt_.projectionIterations > 0)
     throw std::invalid_argument("the projection correction works on one velocity field; multi-field contact needs "
                                 "'Integrator/Explicit/Projection Iterations' = 0");
+  if (carriesAffineVelocity(opt_.transfer) && opt_.projectionIterations > 0)
+    throw std::invalid_argument("the projection correction corrects v_p, not an affine particle velocity; APIC and TPIC need "
+                                "'Integrator/Explicit/Consistent Projection Iterations' = 0");
+  if (carriesAffineVelocity(opt_.transfer) && !ps_.hasAffine()) ps_.allocateAffine();
+  if (opt_.transfer == ParticleTransfer::Xpic) {
+    if (fieldCount_ > 1)
+      throw std::invalid_argument("XPIC extrapolates one velocity field; multi-field contact and rigid bodies need "
+                                  "'Integrator/Explicit/Transfer' FLIP/PIC, APIC or TPIC");
+    if (opt_.projectionIterations > 0)
+      throw std::invalid_argument("XPIC filters the particle velocity itself; it needs "
+                                  "'Integrator/Explicit/Consistent Projection Iterations' = 0");
+    if (opt_.xpicOrder < 1) throw std::invalid_argument("the XPIC order must be at least 1");
+    xpic_ = std::make_unique<XpicExtrapolation<Shape, Dim>>(dist, opt_.xpicOrder);
+  }
   conditions_.useFieldColumns(sumsStride_, kinStride_);
   if (opt_.fbar) fbar_ = std::make_unique<FbarAveraging<Dim>>(dist, mat_.count());
   // Void-node cut-off relative to the heaviest particle (global), fixed for the run.
@@ -43,7 +57,11 @@ void ExplicitStepper<Shape, Dim>::withFields(int stride, const F& f) const {
 template <class Shape, int Dim>
 std::string ExplicitStepper<Shape, Dim>::name() const {
   const char* s = opt_.scheme == ExplicitScheme::USF ? "USF" : opt_.scheme == ExplicitScheme::USL ? "USL" : "MUSL";
-  return std::string("explicit ") + Shape::name + " " + s;
+  const std::string transfer = opt_.transfer == ParticleTransfer::Apic   ? " APIC"
+                               : opt_.transfer == ParticleTransfer::Tpic ? " TPIC"
+                               : opt_.transfer == ParticleTransfer::Xpic ? " XPIC(" + std::to_string(opt_.xpicOrder) + ")"
+                                                                         : "";
+  return std::string("explicit ") + Shape::name + " " + s + transfer;
 }
 
 template <class Shape, int Dim>
@@ -53,7 +71,7 @@ void ExplicitStepper<Shape, Dim>::particleToGridMomentum() {
   zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
   withFields(sumsStride_, [&](const auto& columns) {
     particleToGridMassMomentum<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass, A::MomX, -1,
-                                                 geometryCol_, columns);
+                                                 geometryCol_, columns, carriesAffineVelocity(opt_.transfer));
   });
 }
 
@@ -65,7 +83,8 @@ void ExplicitStepper<Shape, Dim>::particleToGridForces(double t, bool withMoment
     if (withMomentum) {
       zeroGridRows<Exec>(grid);  // not putScalar: see zeroGridRows
       particleToGridMomentumAndForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, grid, A::Mass,
-                                                       A::MomX, A::FintX, geometryCol_, columns);
+                                                       A::MomX, A::FintX, geometryCol_, columns,
+                                                       carriesAffineVelocity(opt_.transfer));
     } else {
       accumulateInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, ps_.stress, grid, A::FintX,
                                                 columns);
@@ -121,6 +140,13 @@ void ExplicitStepper<Shape, Dim>::correctProjection() {
 }
 
 template <class Shape, int Dim>
+void ExplicitStepper<Shape, Dim>::extrapolateParticleVelocity() {
+  if (!xpic_) return;
+  PhaseTimer phase("xpic");
+  xpic_->replaceParticleVelocity(*fields_.accumOwned, A::Mass, A::MomX, ps_, conditions_, massCutoff_);
+}
+
+template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::stressFromGhostedVelocity(double dt, bool fromAccum) {
   PhaseTimer phase("stress update");
   if (fromAccum) {
@@ -173,6 +199,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
   }
   gridUpdate(dt, true);
   fields_.importKinematics();
+  extrapolateParticleVelocity();
 
   {
     PhaseTimer phase("g2p");
@@ -182,7 +209,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
     const bool usl = opt_.scheme == ExplicitScheme::USL && !fbar_;
     withFields(kinStride_, [&](const auto& columns) {
       gridToParticleExplicit<Exec, Shape, Dim>(g, gix, ps_, kinv, dt, opt_.flip, opt_.scheme != ExplicitScheme::MUSL,
-                                               mat_.law(), usl, columns);
+                                               mat_.law(), usl, columns, opt_.transfer);
     });
   }
   if (opt_.scheme == ExplicitScheme::USL && fbar_) {

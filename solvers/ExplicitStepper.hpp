@@ -1,5 +1,5 @@
 // Explicit MPM/GIMP time stepping (update stress first, update stress last, modified USL)
-// with a FLIP/PIC blend, built from the shared kernels in core/kernels.
+// with a FLIP/PIC blend or an affine transfer (APIC, TPIC), built from the shared kernels in core/kernels.
 #pragma once
 
 #include <Teuchos_Comm.hpp>
@@ -16,6 +16,7 @@
 #include "physics/Loads.hpp"
 #include "solvers/Integrator.hpp"
 #include "solvers/ProjectionCorrection.hpp"
+#include "solvers/XpicExtrapolation.hpp"
 
 namespace impm {
 
@@ -33,6 +34,11 @@ constexpr double kTransferStabilityFraction = 0.7;
 struct ExplicitOptions {
   ExplicitScheme scheme = ExplicitScheme::USL;
   double flip = 1.0;             // 1 = pure FLIP, 0 = pure PIC
+  // FlipPic: the `flip` blend; Apic, Tpic: the particles carry an affine velocity
+  // (core/kernels/AffineTransfer.hpp), with the lumped projection only (projectionIterations 0);
+  // Xpic: XPIC(xpicOrder), FLIP from an extrapolated old velocity (solvers/XpicExtrapolation.hpp).
+  ParticleTransfer transfer = ParticleTransfer::FlipPic;
+  int xpicOrder = 5;
   double massTolerance = 1e-12;  // nodes lighter than this fraction of the heaviest node are void
   // Jacobi iterations towards the consistent-mass projection of particle momentum to grid
   // velocity (0: the classic lumped projection v = p / m).
@@ -65,6 +71,8 @@ class ExplicitStepper : public Integrator {
   // The stress update from dt x the particles' gradient view (with F-bar when on).
   void updateParticleStresses(double dt);
   void correctProjection();
+  // XPIC: v_p <- sum_i S_ip v*_i before the FLIP update (solvers/XpicExtrapolation.hpp).
+  void extrapolateParticleVelocity();
   template <class F>
   void withFields(int stride, const F& f) const;
 
@@ -81,6 +89,7 @@ class ExplicitStepper : public Integrator {
   int fieldCount_ = 1, sumsStride_ = 0, kinStride_ = 0, geometryCol_ = -1;
   GridFields fields_;
   ProjectionCorrection<Shape, Dim> projection_;
+  std::unique_ptr<XpicExtrapolation<Shape, Dim>> xpic_;
   std::unique_ptr<FbarAveraging<Dim>> fbar_;
   double massCutoff_ = 0.0;
 };

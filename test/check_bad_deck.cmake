@@ -393,3 +393,33 @@ expect_failure(bad_particle_placement "Particles Per Cell Y: 5" "Particles Per C
                "'Body/Particle Placement'")
 expect_failure(gauss_odd_particles "Particles Per Cell Y: 5" "Particles Per Cell Y: 5\n    Particle Placement: Gauss"
                "'Bodies/Body/Particle Placement' = Gauss puts Gauss-Legendre pairs in sub-cells: 'Bodies/Body/Particles Per Cell X' must be even, got 5")
+# Integrator/Explicit/Transfer: an unknown transfer; APIC or XPIC with the projection correction;
+# APIC with a FLIP Fraction; an XPIC order outside [1, 40]; XPIC with multi-field contact; the
+# explicit key with the implicit integrator; implicit APIC with the consistent mass or the FE reference. Bodies: an angular velocity about x in 2D.
+set(good "${good_bar}")
+expect_failure(unknown_transfer "FLIP Fraction: 1.0" "FLIP Fraction: 1.0\n      Transfer: PIC-FLIP" "Integrator/Explicit/Transfer")
+expect_failure(xpic_with_projection "FLIP Fraction: 1.0" "FLIP Fraction: 1.0\n      Transfer: XPIC"
+               "'Integrator/Explicit/Consistent Projection Iterations' = 0 (the projection correction and XPIC both filter v_p)")
+expect_failure(apic_with_projection "FLIP Fraction: 1.0" "FLIP Fraction: 1.0\n      Transfer: APIC"
+               "'Integrator/Explicit/Consistent Projection Iterations' = 0")
+set(good "${good_disks}")
+expect_failure(apic_with_flip_fraction "FLIP Fraction: 1.0" "FLIP Fraction: 0.5\n      Transfer: APIC"
+               "'Integrator/Explicit/FLIP Fraction' at 1")
+expect_failure(xpic_order_zero "FLIP Fraction: 1.0" "FLIP Fraction: 1.0\n      Transfer: XPIC\n      XPIC Order: 0"
+               "'Integrator/Explicit/XPIC Order' must lie in [1, 40], got 0")
+expect_failure(xpic_order_too_high "FLIP Fraction: 1.0" "FLIP Fraction: 1.0\n      Transfer: XPIC\n      XPIC Order: 41"
+               "'Integrator/Explicit/XPIC Order' must lie in [1, 40], got 41")
+file(READ "${SRC}/../apps/colliding_disks_contact_explicit_gimp.yaml" good)
+expect_failure(xpic_with_contact "FLIP Fraction: 1.0" "FLIP Fraction: 1.0\n      Transfer: XPIC"
+               "XPIC extrapolates one velocity field")
+set(good "${good_disks}")
+expect_failure(angular_velocity_x_2d "      Velocity Y: 0.1\n" "      Velocity Y: 0.1\n      Angular Velocity X: 1.0\n"
+               "'Bodies/lower disk/Angular Velocity X' = 1 needs 'Grid/Dimension' = 3")
+file(READ "${SRC}/../apps/bar_implicit_mpm_plane_stress.yaml" good)
+expect_failure(tpic_implicit "    Implicit:" "    Explicit:\n      Transfer: TPIC\n    Implicit:"
+               "'Integrator/Explicit/Transfer' = TPIC is the explicit integrator's transfer")
+expect_failure(apic_implicit_consistent_mass "    Implicit:" "    Implicit:\n      Transfer: APIC\n      Mass Matrix: Consistent"
+               "'Integrator/Implicit/Transfer' = APIC needs 'Integrator/Implicit/Mass Matrix' = Lumped")
+file(READ "${SRC}/../apps/bar_implicit_fe_q9_plane_strain.yaml" good)
+expect_failure(apic_fe_reference "    Implicit:\n      Mass Matrix" "    Implicit:\n      Transfer: APIC\n      Mass Matrix"
+               "'Integrator/Implicit/Transfer' = APIC moves the particles")

@@ -207,6 +207,25 @@ TEUCHOS_UNIT_TEST(BodyShapes, GaussPlacementIntegratesTheSecondMomentExactly) {
   TEST_ASSERT(odd.find("must be even, got 3") != std::string::npos);
 }
 
+// A ring (Inner Radius X/Y): the particles lie between the two ellipses, and the fill keeps the
+// exact area pi (a b - ai bi); a hole that is not inside the outline is refused.
+TEUCHOS_UNIT_TEST(BodyShapes, RingKeepsItsExactArea) {
+  const GridBox g = unitGrid();
+  const auto ring = impm::makeEllipse(0.5, 0.5, 0.4, 0.3, 0.25, 0.15);
+  const auto pts = impm::fillShape(*ring, g, kPpc, kPpc, kThickness, 0, g.nx, true);
+  TEST_FLOATING_EQUALITY(totalVolume(pts), kPi * (0.4 * 0.3 - 0.25 * 0.15) * kThickness, 1e-12);
+  const auto hole = impm::makeEllipse(0.5, 0.5, 0.25, 0.15);
+  for (const ParticlePoint& p : pts) {
+    TEST_ASSERT(ring->contains(p.x, p.y));
+    TEST_ASSERT(!hole->contains(p.x, p.y));
+  }
+  TEST_ASSERT(!ring->contains(0.5, 0.5));
+  TEST_ASSERT(ring->contains(0.5 + 0.3, 0.5));
+  const std::string wide = invalidArgumentMessage([] { impm::makeEllipse(0.5, 0.5, 0.4, 0.3, 0.4, 0.1); });
+  TEST_ASSERT(wide.find("inner semi-axes must be positive and below the outer ones") != std::string::npos);
+  TEST_THROW(impm::makeEllipse(0.5, 0.5, 0.4, 0.3, 0.2, 0.0), std::invalid_argument);  // one inner axis only
+}
+
 TEUCHOS_UNIT_TEST(BodyShapes, SlabsPartitionTheFill) {
   const GridBox g = unitGrid();
   const auto disk = impm::makeEllipse(0.45, 0.5, 0.3, 0.2);

@@ -3,7 +3,7 @@
 // bit at the same rank and thread count, whether it writes into a new output directory or into
 // the one that holds the checkpoint; at np 2 a checkpoint of one rank continues on two (and one
 // of two ranks on one) to 1e-10 relative. Explicit: the colliding disks (MPM, energy and
-// momentum columns); implicit: the beam of Problem 2 (Newmark, assembled Newton).
+// momentum columns; also with APIC); implicit: the beam of Problem 2 (Newmark, assembled Newton).
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
@@ -159,6 +159,17 @@ TEUCHOS_UNIT_TEST(Restart, MultiFieldContactDisks) {
   deck.sublist("Contact").set("Friction", 0.3);
   deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 5).set("Plot", false);
   checkRestart(deck, "contact_disks", 160, 90, out, success);
+}
+
+// APIC: each particle's affine velocity C_p is part of the checkpoint (and migrates at np 2); a
+// restart without it would start from C_p = 0 and differ from the first step on.
+TEUCHOS_UNIT_TEST(Restart, ApicCollidingDisks) {
+  ParameterList deck = deckOf("colliding_disks_explicit_mpm.yaml");
+  deck.sublist("Bodies").sublist("lower disk").set("Center X", 0.355).set("Center Y", 0.355);
+  deck.sublist("Bodies").sublist("upper disk").set("Center X", 0.645).set("Center Y", 0.645);
+  deck.sublist("Integrator").sublist("Explicit").set("Transfer", "APIC");
+  deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 5);
+  checkRestart(deck, "apic_disks", 120, 70, out, success);
 }
 
 // Load balance moves the cuts between ranks before the checkpoint; a restart at the same rank

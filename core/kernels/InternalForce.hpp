@@ -13,8 +13,8 @@ namespace impm {
 // One particle's contribution, for a stencil already built; s: the stored stress components
 // (StressLayout<Dim>).
 template <class Shape, int Dim, class Access>
-KOKKOS_INLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
-                                                 double V, const double* s, Access& out, int forceCol) {
+KOKKOS_FORCEINLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
+                                                     double V, const double* s, Access& out, int forceCol) {
   using SL = StressLayout<Dim>;
   st.forEachNode(ix, [&](int n, double, const double* grad) {
     for (int i = 0; i < Dim; ++i) {

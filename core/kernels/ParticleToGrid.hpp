@@ -5,6 +5,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleSet.hpp"
+#include "core/kernels/AffineTransfer.hpp"
 #include "core/kernels/FieldColumns.hpp"
 #include "core/kernels/Interpolation.hpp"
 #include "core/kernels/InternalForce.hpp"
@@ -38,12 +39,49 @@ KOKKOS_INLINE_FUNCTION void scatterContactGeometry(const ParticleStencil<Shape, 
   });
 }
 
+// particleToGridMassMomentum and, with forceCol >= 0, particleToGridMomentumAndForce for particles
+// that carry an affine velocity field (APIC, TPIC; AffineTransfer.hpp): the momentum of node i is
+// m_p S_ip (v_p + C_p (x_i - x_p)).
+template <class ExecSpace, class Shape, int Dim, class GridView, class Fields>
+void particleToGridAffineMomentum(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
+                                  const GridView& grid, int massCol, int momCol, int accCol, int forceCol,
+                                  int geometryCol, const Fields& fields) {
+  const FixedParticleViews<Dim> pv(ps);
+  auto m = pv.mass; auto v = pv.v; auto a = pv.a; auto vol = pv.volume; auto x = pv.x; auto stress = pv.stress;
+  auto C = pv.affine;
+  const StructuredGrid nodes = g;
+  scatterToGrid<ExecSpace, Shape, Dim>(
+      "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
+        double xp[Dim], vp[Dim], ap[Dim], Cp[Dim][Dim];
+        for (int i = 0; i < Dim; ++i) {
+          xp[i] = x(p, i);
+          vp[i] = v(p, i);
+          ap[i] = accCol >= 0 ? a(p, i) : 0.0;
+          for (int j = 0; j < Dim; ++j) Cp[i][j] = C(p, i, j);
+        }
+        const int f = fields.offset(p);
+        scatterAffineMassMomentum(st, nodes, ix, m(p), xp, vp, Cp, ap, out, massCol + f, momCol + f,
+                                  accCol >= 0 ? accCol + f : -1);
+        if (forceCol >= 0) {
+          double s[StressLayout<Dim>::count];
+          loadStress<Dim>(stress, p, s);
+          scatterInternalForce(st, ix, vol(p), s, out, forceCol + f);
+        }
+        if (Fields::multi && geometryCol >= 0) scatterContactGeometry(st, ix, vol(p), m(p), xp, out, geometryCol + f);
+      });
+}
+
 // Adds m_p S_ip, m_p v_p S_ip (and m_p a_p S_ip into accCol when >= 0; with several fields, the
 // contact geometry into geometryCol.. when >= 0) to `grid`, in the columns of each particle's field.
+// With `affine`, the particles' affine velocity too (particleToGridAffineMomentum).
 template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                 const GridView& grid, int massCol, int momCol, int accCol = -1, int geometryCol = -1,
-                                const Fields& fields = Fields()) {
+                                const Fields& fields = Fields(), bool affine = false) {
+  if (affine) {
+    particleToGridAffineMomentum<ExecSpace, Shape, Dim>(g, ix, ps, grid, massCol, momCol, accCol, -1, geometryCol, fields);
+    return;
+  }
   const FixedParticleViews<Dim> pv(ps);
   auto m = pv.mass; auto v = pv.v; auto a = pv.a; auto vol = pv.volume; auto x = pv.x;
   scatterToGrid<ExecSpace, Shape, Dim>(
@@ -65,10 +103,15 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
 
 // The explicit stepper's fused transfer: mass, momentum and internal force in one pass over
 // the particles (one stencil evaluation per particle); the contact geometry too when geometryCol >= 0.
+// With `affine`, the particles' affine velocity too (particleToGridAffineMomentum).
 template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = SingleField>
 void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                     const GridView& grid, int massCol, int momCol, int forceCol, int geometryCol = -1,
-                                    const Fields& fields = Fields()) {
+                                    const Fields& fields = Fields(), bool affine = false) {
+  if (affine) {
+    particleToGridAffineMomentum<ExecSpace, Shape, Dim>(g, ix, ps, grid, massCol, momCol, -1, forceCol, geometryCol, fields);
+    return;
+  }
   const FixedParticleViews<Dim> pv(ps);
   auto m = pv.mass; auto v = pv.v; auto vol = pv.volume; auto stress = pv.stress; auto x = pv.x;
   scatterToGrid<ExecSpace, Shape, Dim>(

@@ -37,7 +37,8 @@ const char* const build::kParticlePlacementDoc =
 RCP<const ParameterList> build::bodiesTemplate() {
   auto pl = rcp(new ParameterList("Bodies"));
   choice(*pl, "Shape", "Rectangle", {"Rectangle", "Ellipse", "Polygon", "Particles File"},
-         "Rectangle: X/Y Min/Max on grid lines; Ellipse: Center X/Y and Radius X/Y (a disk when equal); "
+         "Rectangle: X/Y Min/Max on grid lines; Ellipse: Center X/Y and Radius X/Y (a disk when equal; a ring "
+         "with Inner Radius X/Y); "
          "Polygon: Vertices; Particles File: File. Lattice-filled shapes keep the sub-box centres inside the "
          "shape; Ellipse and Polygon particles share the shape's exact area as volume. In 3D (Grid/Dimension 3) "
          "a Rectangle is the box X/Y/Z Min/Max, and Particles File rows are x, y, z, volume; Ellipse and "
@@ -53,6 +54,8 @@ RCP<const ParameterList> build::bodiesTemplate() {
   number(*pl, "Center Y", 0.5, "Ellipse: y of the centre");
   number(*pl, "Radius X", 0.25, "Ellipse: semi-axis along x");
   number(*pl, "Radius Y", 0.25, "Ellipse: semi-axis along y");
+  number(*pl, "Inner Radius X", 0.0, "Ellipse: semi-axis along x of a centred hole (0: none; a ring with Inner Radius Y)");
+  number(*pl, "Inner Radius Y", 0.0, "Ellipse: semi-axis along y of a centred hole (0: none; a ring with Inner Radius X)");
   pl->set("Vertices", "", "Polygon: 'x1, y1; x2, y2; x3, y3; ...' (either orientation, not self-crossing)");
   pl->set("File", "", "Particles File: CSV rows x, y, volume (m^3, i.e. area x Thickness); a relative path is "
                       "relative to the working directory");
@@ -63,6 +66,15 @@ RCP<const ParameterList> build::bodiesTemplate() {
   number(*pl, "Velocity X", 0.0, "initial velocity, x (m/s)");
   number(*pl, "Velocity Y", 0.0, "initial velocity, y (m/s)");
   number(*pl, "Velocity Z", 0.0, "initial velocity, z (m/s; 3D)");
+  number(*pl, "Angular Velocity", 0.0,
+         "initial rigid rotation about z (rad/s, counter-clockwise seen from +z) about the Rotation Center: the "
+         "particles start with Velocity + omega x (x - c); with 'Integrator/Explicit/Transfer' = APIC or TPIC their "
+         "affine velocity starts at the rotation's (C r = omega x r). Not for Rigid bodies");
+  number(*pl, "Angular Velocity X", 0.0, "3D: the initial angular velocity's x component (rad/s)");
+  number(*pl, "Angular Velocity Y", 0.0, "3D: the initial angular velocity's y component (rad/s)");
+  number(*pl, "Rotation Center X", 0.0, "the point c the initial rotation turns about, x");
+  number(*pl, "Rotation Center Y", 0.0, "the same, y");
+  number(*pl, "Rotation Center Z", 0.0, "the same, z (3D)");
   choice(*pl, "Initial Stress", "None", {"None", "Geostatic"},
          "None: the body starts stress-free. Geostatic: at rest under the deck's gravity (the Body Force loads' "
          "Acceleration Y < 0, nothing along x or z): sigma_yy = -rho g (Surface Y - y) from the overburden of its own "
@@ -87,6 +99,30 @@ RCP<const ParameterList> build::bodiesTemplate() {
   number(*pl, "Normal Y", 0.0, "the same, y");
   number(*pl, "Normal Z", 0.0, "the same, z (3D)");
   return pl;
+}
+
+// Angular Velocity (about z; in 3D also X, Y) about Rotation Center X/Y/Z: the body's initial
+// rigid rotation. A Rigid body's motion is its Velocity times its Time Function alone.
+static void readRotation(const std::string& key, const ParameterList& b, int dim, BodySpec& body) {
+  const char* const omegaKeys[3] = {"Angular Velocity X", "Angular Velocity Y", "Angular Velocity"};
+  const char* const centerKeys[3] = {"Rotation Center X", "Rotation Center Y", "Rotation Center Z"};
+  for (int d = 0; d < 3; ++d) {
+    body.angularVelocity[d] = b.get<double>(omegaKeys[d]);
+    body.rotationCenter[d] = b.get<double>(centerKeys[d]);
+    if (!std::isfinite(body.angularVelocity[d]) || !std::isfinite(body.rotationCenter[d]))
+      throw DeckError("'" + key + "/" + (std::isfinite(body.angularVelocity[d]) ? centerKeys[d] : omegaKeys[d]) +
+                      "' must be finite");
+  }
+  for (int d = 0; d < 2 && dim == 2; ++d)
+    if (body.angularVelocity[d] != 0.0)
+      throw DeckError("'" + key + "/" + omegaKeys[d] + "' = " + formatNumber(body.angularVelocity[d]) +
+                      " needs 'Grid/Dimension' = 3 (in 2D a body turns about z: 'Angular Velocity')");
+  if (dim == 2 && body.rotationCenter[2] != 0.0)
+    throw DeckError("'" + key + "/Rotation Center Z' = " + formatNumber(body.rotationCenter[2]) + " needs 'Grid/Dimension' = 3");
+  for (int d = 0; d < 3 && body.rigid; ++d)
+    if (body.angularVelocity[d] != 0.0)
+      throw DeckError("'" + key + "/" + omegaKeys[d] + "' sets a deformable body's initial rotation; a Rigid body moves "
+                      "with Velocity X/Y/Z times its Time Function only");
 }
 
 const BodySpec& Simulation::bodyNamed(const std::string& key, const std::string& name) const {
@@ -177,6 +213,7 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
   if (grid_.dim == 2 && body.velocityZ != 0.0)
     throw DeckError("'" + key + "/Velocity Z' = " + formatNumber(body.velocityZ) + " needs 'Grid/Dimension' = 3");
   readRigidMotion(key, b, body);
+  readRotation(key, b, grid_.dim, body);
   readGeostaticStress(key, b, body);
   if (b.get<std::string>("Particle Placement") == "Gauss") {
     // Gauss pairs in sub-cells: an even count per direction, and only where a lattice is filled.
@@ -203,7 +240,7 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
     } else if (shape == "Ellipse") {
       const double cx = b.get<double>("Center X"), cy = b.get<double>("Center Y");
       const double rx = positive(b, key, "Radius X"), ry = positive(b, key, "Radius Y");
-      body.shape = makeEllipse(cx, cy, rx, ry);
+      body.shape = makeEllipse(cx, cy, rx, ry, b.get<double>("Inner Radius X"), b.get<double>("Inner Radius Y"));
     } else if (shape == "Polygon") {
       const std::string vertices = b.get<std::string>("Vertices");
       try {

@@ -37,6 +37,17 @@ void addIntegratorSchema(ParameterList& valid) {
   ParameterList& e = p.sublist("Explicit", false, "explicit integrator options");
   choice(e, "Update Scheme", "USL", {"USF", "USL", "MUSL"}, "when the stress is updated");
   number(e, "FLIP Fraction", 1.0, "particle velocity update: 1 = FLIP, 0 = PIC, between = blend");
+  choice(e, "Transfer", "FLIP/PIC", {"FLIP/PIC", "APIC", "TPIC", "XPIC"},
+         "particle-grid transfer. FLIP/PIC: the FLIP Fraction blend; APIC (affine PIC, Jiang et al. 2015): each "
+         "particle carries an affine velocity v_p + C_p (x - x_p) to the grid and takes back the PIC velocity and "
+         "C_p = B_p D_p^-1, which conserves angular momentum; TPIC (Taylor PIC, Nakamura et al. 2023): the same "
+         "with C_p = the grid velocity gradient at the particle. Both keep an affine velocity field exactly and "
+         "damp far less than PIC. XPIC (Hammerquist & Nairn 2017): FLIP's update from an old velocity "
+         "extrapolated on the grid to order XPIC Order, which removes FLIP's null-space noise (order 1 = PIC); one "
+         "velocity field. Explicit integrator only, with FLIP Fraction 1 (not used) and Consistent Projection "
+         "Iterations 0");
+  e.set("XPIC Order", 5, "Transfer XPIC: the order m of XPIC(m), 1 to 40 (1 = PIC; each order above 1 costs one "
+                         "more pass over the particles)");
   number(e, "Mass Damping", 0.0,
          "mass-proportional damping c (1/s): each grid node's acceleration gets -c v_i (a force -c m_i v_i), for "
          "dynamic relaxation to a quasi-static state; a mode of angular frequency omega is critically damped at "
@@ -80,6 +91,11 @@ void addIntegratorSchema(ParameterList& valid) {
          "take the grid's velocity increment dt/2 (a_i + a_i,new); Projected: a_i projected from the "
          "particles' accelerations, v_p += dt/2 (a_p + a_p,new) (Guilkey & Weiss 2003), whose acceleration "
          "error grows at omega dt >> 1 (11 times the static stress after 40 large steps of a step load)");
+  choice(im, "Transfer", "FLIP", {"FLIP", "APIC", "TPIC"},
+         "particle velocity update. FLIP: by the grid's velocity increment (Equilibrium) or the particle's own "
+         "Newmark rule (Projected); APIC, TPIC: the particles take the grid velocity at t + dt and its affine part "
+         "C_p, and carry it to the grid (see Integrator/Explicit/Transfer). APIC and TPIC need the lumped mass, no "
+         "projection correction and moving particles (not the FE reference)");
   im.set("Adaptive Time Step", false,
          "sub-step each deck step adaptively on the Newton iteration count (after Uintah's ImpMPM): a sub-step "
          "that took more than 12 Newton iterations shrinks the next by 0.6, one that took fewer than 4 doubles it "
@@ -142,6 +158,33 @@ void Simulation::applyInitialConditions() {
   }
 }
 
+// Integrator/Explicit/Transfer. APIC, TPIC and XPIC replace the FLIP Fraction blend, carry no
+// projection correction (it corrects v_p alone) and are wired into the explicit stepper only.
+static void readTransfer(ExplicitOptions& eopt, const ParameterList& ex, bool explicitRun) {
+  const std::string transfer = ex.get<std::string>("Transfer");
+  eopt.transfer = transfer == "APIC"   ? ParticleTransfer::Apic
+                  : transfer == "TPIC" ? ParticleTransfer::Tpic
+                  : transfer == "XPIC" ? ParticleTransfer::Xpic
+                                       : ParticleTransfer::FlipPic;
+  eopt.xpicOrder = ex.get<int>("XPIC Order");
+  if (eopt.transfer == ParticleTransfer::FlipPic) return;
+  const std::string key = "'Integrator/Explicit/Transfer' = " + transfer;
+  // NairnMPM's documentation finds XPIC(m) above about 40 unstable: the alternating binomial
+  // series loses its digits.
+  if (eopt.transfer == ParticleTransfer::Xpic && (eopt.xpicOrder < 1 || eopt.xpicOrder > 40))
+    throw DeckError("'Integrator/Explicit/XPIC Order' must lie in [1, 40], got " + std::to_string(eopt.xpicOrder));
+  if (!explicitRun)
+    throw DeckError(key + " is the explicit integrator's transfer: with 'Integrator/Type' = Implicit set "
+                          "'Integrator/Implicit/Transfer' (FLIP, APIC or TPIC)");
+  if (eopt.projectionIterations > 0)
+    throw DeckError(key + " needs 'Integrator/Explicit/Consistent Projection Iterations' = 0 (the projection correction " +
+                    (eopt.transfer == ParticleTransfer::Xpic ? "and XPIC both filter v_p" : "corrects v_p, not the affine velocity") +
+                    "), got " + std::to_string(eopt.projectionIterations));
+  if (eopt.flip != 1.0)
+    throw DeckError(key + " sets the particle velocity itself: leave 'Integrator/Explicit/FLIP Fraction' at 1 (it "
+                          "blends FLIP and PIC with Transfer FLIP/PIC), got " + formatNumber(eopt.flip));
+}
+
 // Integrator/Explicit: the update scheme and its options, and the stable time step (checked for an
 // explicit run; criticalStep_ is the explicit run's).
 ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
@@ -161,6 +204,7 @@ ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
                     formatNumber(eopt.massDamping));
   if (!(eopt.flip >= 0 && eopt.flip <= 1))
     throw DeckError("'Integrator/Explicit/FLIP Fraction' must lie in [0, 1], got " + formatNumber(eopt.flip));
+  readTransfer(eopt, ex, explicitRun);
   const double factor = positive(ex, "Integrator/Explicit", "Stability Factor");
   // kTransferStabilityFraction x the critical step of lumped bilinear cells (ExplicitStepper.hpp);
   // c_p: the fastest material's. A factor above 1 leaves the measured stable range: allowed for
@@ -183,6 +227,25 @@ ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
   return eopt;
 }
 
+// Integrator/Implicit/Transfer: APIC and TPIC move the particles with the lumped-mass grid's
+// velocity; the FE reference's Gauss points do not move, the consistent mass and the projection
+// correction act on v_p alone.
+static void readImplicitTransfer(ImplicitOptions& iopt, const ParameterList& im) {
+  const std::string transfer = im.get<std::string>("Transfer");
+  iopt.transfer = transfer == "APIC" ? ParticleTransfer::Apic : transfer == "TPIC" ? ParticleTransfer::Tpic
+                                                                                  : ParticleTransfer::FlipPic;
+  if (iopt.transfer == ParticleTransfer::FlipPic) return;
+  const std::string key = "'Integrator/Implicit/Transfer' = " + transfer;
+  if (iopt.fixedParticles)
+    throw DeckError(key + " moves the particles: the FE reference ('Method/Shape Function' = FE ...) keeps its Gauss "
+                          "points in place; use Transfer FLIP");
+  if (iopt.consistentMass)
+    throw DeckError(key + " needs 'Integrator/Implicit/Mass Matrix' = Lumped");
+  if (iopt.projectionIterations > 0)
+    throw DeckError(key + " needs 'Integrator/Implicit/Consistent Projection Iterations' = 0 (the projection "
+                          "correction corrects v_p, not the affine velocity), got " + std::to_string(iopt.projectionIterations));
+}
+
 // Integrator/Implicit: the Newmark scheme, the step control and the preconditioner refresh.
 ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
   const ParameterList& im = deck_.sublist("Integrator").sublist("Implicit");
@@ -202,6 +265,7 @@ ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
   iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
   iopt.fixedParticles = fe;
   iopt.fbar = fbar_;
+  readImplicitTransfer(iopt, im);
   iopt.newmark.beta = im.get<double>("Newmark Beta");
   iopt.newmark.gamma = im.get<double>("Newmark Gamma");
   if (!(iopt.newmark.gamma >= 0.5 && 2 * iopt.newmark.beta >= iopt.newmark.gamma && iopt.newmark.beta <= 1.0))
@@ -242,6 +306,13 @@ void Simulation::buildIntegrator() {
   }
   explicitOptions_ = std::make_shared<const ExplicitOptions>(eopt);
   if (integratorType == "Implicit") implicitOptions_ = std::make_shared<const ImplicitOptions>(readImplicitOptions(fe));
+  const bool affine = integratorType == "Explicit" ? carriesAffineVelocity(eopt.transfer)
+                                                   : carriesAffineVelocity(implicitOptions_->transfer);
+  if (affine) {
+    // Before a restart reads the checkpoint: its rows carry C_p.
+    particles_.allocateAffine();
+    setRotationAffineVelocity(particles_, bodies_);
+  }
   makeIntegrator();
 }
 
@@ -278,7 +349,11 @@ void Simulation::makeIntegrator() {
         }
       });
     };
-    integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});
+    try {  // the stepper's refusals name the deck key they concern: bad input, exit 2
+      integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});
+    } catch (const std::invalid_argument& e) {
+      throw DeckError(e.what());
+    }
   }
 }
 

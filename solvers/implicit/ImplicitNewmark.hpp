@@ -20,6 +20,7 @@
 
 #include "core/GridDistribution.hpp"
 #include "core/ParticleCellPairs.hpp"
+#include "core/kernels/AffineTransfer.hpp"
 #include "core/kernels/FbarAveraging.hpp"
 #include "physics/GridConditions.hpp"
 #include "physics/Materials.hpp"
@@ -84,6 +85,10 @@ struct ImplicitOptions {
   // carries F-bar's coupling of a cell's particles, which the assembled blocks leave out (the
   // preconditioner is built from them all the same).
   bool fbar = false;
+  // FlipPic: the particle's own Newmark update of v_p (or the grid's increment, Equilibrium);
+  // Apic, Tpic: v_p and C_p from the grid's end-of-step velocity (core/kernels/AffineTransfer.hpp),
+  // with the lumped mass and moving particles only.
+  ParticleTransfer transfer = ParticleTransfer::FlipPic;
   // Adaptive sub-steps within each deck step on the Newton iteration count (see step()); the
   // smallest sub-step allowed (0: dt / 2^maxStepHalvings).
   bool adaptiveTimeStep = false;
@@ -143,6 +148,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   auto heldWallReaction() const;
   void gridUpdate();                     // a_new and the velocity increment on the grid
   void updateParticles();                // stress, then x, v, a of the particles
+  template <ParticleTransfer Transfer>
+  void updateAffineParticles();          // APIC, TPIC: x, v, C_p, a from the grid at t + dt
   void recordReactions(const Vector& u); // the grid conditions' reactions: the residual at their dofs
   void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
   void correctProjection();              // consistent-mass correction of v and a on the grid
@@ -181,6 +188,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   long absPVersion_ = -1;
   std::vector<double> restoredP_;  // a checkpoint's P, taken at the first jacobianMatrix()
   Teuchos::RCP<MultiVector> gridKinematics_;  // fixed particles: grid v, a at the end of the last step
+  Teuchos::RCP<MultiVector> endKinematics_;   // APIC, TPIC: ghosted grid v, a at t + dt (KinColumns)
 
   StepControl control_;
   ImplicitStatistics statistics_;

@@ -65,6 +65,14 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
                                   "the assembled Jacobian leaves out F-bar's coupling of the particles in a cell");
     fbar_ = std::make_unique<FbarAveraging<Dim>>(dist, mat_.count());
   }
+  if (carriesAffineVelocity(opt_.transfer)) {
+    if (opt_.fixedParticles || opt_.consistentMass || opt_.projectionIterations > 0)
+      throw std::invalid_argument("'Integrator/Implicit/Transfer' = APIC or TPIC moves the particles with a lumped-mass "
+                                  "grid: not with the FE reference, 'Mass Matrix' = Consistent or 'Consistent "
+                                  "Projection Iterations' > 0");
+    if (!ps_.hasAffine()) ps_.allocateAffine();
+    endKinematics_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), KinColumns<Dim>::Count));
+  }
   if (opt_.fixedParticles) {
     gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * Dim));
     if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ps_.newVector("u");
@@ -106,7 +114,8 @@ void ImplicitNewmark<Shape, Dim>::setUpStep(double t, double dt) {
   stateGhosted_->putScalar(0.0);
   {
     auto grid = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    particleToGridMassMomentum<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, SC::Mass, SC::VelX, SC::AccX);
+    particleToGridMassMomentum<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, SC::Mass, SC::VelX, SC::AccX, -1,
+                                                 SingleField(), carriesAffineVelocity(opt_.transfer));
     loads_.template scatterParticleForces<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, SC::FextX, t + dt);
   }
   stateOwned_->putScalar(0.0);
@@ -525,6 +534,8 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
   } else {
     updateStress<Exec, Dim>(ps_, mat_.law(), 1.0, /*updateVolume=*/!opt_.fixedParticles, domain);
   }
+  if (opt_.transfer == ParticleTransfer::Apic) return updateAffineParticles<ParticleTransfer::Apic>();
+  if (opt_.transfer == ParticleTransfer::Tpic) return updateAffineParticles<ParticleTransfer::Tpic>();
   const StructuredGrid g = dist_.grid();
   const LocalNodeIndexer ix = dist_.ghostedIndexer();
   auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
@@ -553,6 +564,48 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
           a(p, c) = an[c];
         }
       });
+}
+
+// APIC and TPIC: the grid velocity at t + dt, v_i + dv_i, and a_new on every ghosted node; then
+// x_p += sum S u_i, v_p = sum S v_i(t + dt), C_p from the same field, a_p = sum S a_new (weights
+// at x_p(t)). The particles' own Newmark update is not used: their velocity is the grid's.
+template <class Shape, int Dim>
+template <ParticleTransfer Transfer>
+void ImplicitNewmark<Shape, Dim>::updateAffineParticles() {
+  using SC = implicit::StateColumns<Dim>;
+  using DC = implicit::DisplacementColumns<Dim>;
+  using K = KinColumns<Dim>;
+  auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  {
+    auto s = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    auto kin = endKinematics_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
+    Kokkos::parallel_for(
+        "implicit_end_kinematics", Kokkos::RangePolicy<Exec>(0, kin.extent(0)), KOKKOS_LAMBDA(int n) {
+          for (int c = 0; c < Dim; ++c) {
+            kin(n, K::VelX + c) = s(n, SC::VelX + c) + d(n, DC::DvX + c);
+            kin(n, K::AccX + c) = d(n, DC::AnewX + c);
+          }
+        });
+  }
+  auto kin = endKinematics_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  const StructuredGrid g = dist_.grid();
+  const LocalNodeIndexer ix = dist_.ghostedIndexer();
+  const FixedParticleViews<Dim> pv(ps_);
+  auto x = pv.x; auto v = pv.v; auto a = pv.a; auto affine = pv.affine;
+  gatherFromGrid<Exec, Shape, Dim>("implicit_g2p_affine", g, ps_, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
+    double xp[Dim], vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {}, C[Dim][Dim], u[Dim] = {};
+    for (int c = 0; c < Dim; ++c) xp[c] = x(p, c);
+    gatherAffineKinematics<Transfer>(st, g, ix, kin, 0, xp, vi, ai, grad, C);
+    st.forEachNode(ix, [&](int n, double w, const double*) {
+      for (int c = 0; c < Dim; ++c) u[c] += w * d(n, DC::UX + c);
+    });
+    for (int c = 0; c < Dim; ++c) {
+      x(p, c) += u[c];
+      v(p, c) = vi[c];
+      a(p, c) = ai[c];
+      for (int j = 0; j < Dim; ++j) affine(p, c, j) = C[c][j];
+    }
+  });
 }
 
 // ---- Driving the step -------------------------------------------------------------------------

@@ -102,6 +102,10 @@ std::string ParticleOutput::writeGoodState() {
     good.historyAllocated = true;
     good.history = ParticleSet::Hist("history", 0, ParticleSet::kHistoryCount);
   }
+  if (particles_.hasAffine()) {  // the rows carry C_p (APIC, TPIC): read them as they were packed
+    good.affineAllocated = true;
+    good.affine = ParticleSet::Mat("affine", 0, good.dim, good.dim);
+  }
   good.resize(0);
   good.unpackAppend(goodState_);
   Kokkos::fence();
