@@ -35,17 +35,18 @@ class XpicExtrapolation {
 
   int order() const { return order_; }
 
-  // Sets ps.v = sum_i S_ip v*_i from the owned particle sums `owned` (node masses in massCol,
-  // momenta in momCol..: v^n = p / m on nodes heavier than massCutoff).
-  void replaceParticleVelocity(const MultiVector& owned, int massCol, int momCol, const ParticleSet& ps,
-                               const GridConditions& conditions, double massCutoff) const {
+  // Sets ps.v = sum_i S_ip v*_i from the owned grid columns `owned`: node masses in massCol and,
+  // in col.., the momenta p (v^n = p / m; the explicit step's sums) or, with `velocity`, v^n
+  // itself (the implicit step's state), on nodes heavier than massCutoff.
+  void replaceParticleVelocity(const MultiVector& owned, int massCol, int col, const ParticleSet& ps,
+                               const GridConditions& conditions, double massCutoff, bool velocity = false) const {
     {
       auto s = owned.getLocalViewDevice(Tpetra::Access::ReadOnly);
       auto term = termOwned_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
       Kokkos::parallel_for(
           "xpic_start", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
             const double m = s(n, massCol);
-            for (int d = 0; d < Dim; ++d) term(n, d) = m > massCutoff ? s(n, momCol + d) / m : 0.0;
+            for (int d = 0; d < Dim; ++d) term(n, d) = m > massCutoff ? (velocity ? s(n, col + d) : s(n, col + d) / m) : 0.0;
           });
       conditions.template write<Exec>(term, 0, PrescribedField::StartVelocity);
     }

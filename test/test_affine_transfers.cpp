@@ -436,10 +436,10 @@ TEUCHOS_UNIT_TEST(SpinningBox, ThreeDimensionsAboutX) {
 
 // The disk for a quarter revolution with implicit Newmark (average acceleration, the lumped grid
 // with the Equilibrium acceleration) at steps of 2 pi / 1000 s (5 times the explicit ones).
-Spin spinDiskImplicit(const std::string& transfer, const std::string& outdir) {
+Spin spinDiskImplicit(const std::string& transfer, const std::string& outdir, int xpicOrder = 5) {
   ParameterList deck = diskDeck("FLIP/PIC", 1.0, 250);
   deck.sublist("Integrator").set("Type", "Implicit").set("Time Step", 2.0 * M_PI / 1000);
-  deck.sublist("Integrator").sublist("Implicit").set("Transfer", transfer);
+  deck.sublist("Integrator").sublist("Implicit").set("Transfer", transfer).set("XPIC Order", xpicOrder);
   return spinDisk(deck, Tpetra::getDefaultComm(), outdir, 250);
 }
 
@@ -456,6 +456,13 @@ TEUCHOS_UNIT_TEST(ImplicitTransfers, SpinningDiskQuarterRevolution) {
   TEST_COMPARE(std::abs(apic.relativeLoss()), <, 1e-4);
   TEST_COMPARE(std::abs(tpic.relativeLoss()), <, 1e-4);
   TEST_COMPARE(flip.relativeLoss(), >, 10.0 * std::abs(apic.relativeLoss()));
+  // XPIC: order 1 is PIC's update (v_p = sum S v_i(t + dt)); order 5 keeps more of the spin.
+  const Spin xpic1 = spinDiskImplicit("XPIC", "test_output/spinning_disk_implicit_xpic1", 1);
+  const Spin xpic5 = spinDiskImplicit("XPIC", "test_output/spinning_disk_implicit_xpic5", 5);
+  out << "implicit XPIC(1) " << xpic1.relativeLoss() << ", XPIC(5) " << xpic5.relativeLoss() << "\n";
+  TEST_EQUALITY_CONST(xpic5.status, "completed");
+  TEST_COMPARE(xpic5.relativeLoss(), <, 0.5 * xpic1.relativeLoss());
+  TEST_COMPARE(xpic5.relativeLoss(), >, flip.relativeLoss());
 }
 
 // --- the seed bar (Problem 1, apps/bar_explicit_mpm_plane_stress.yaml) with each transfer ---

@@ -91,11 +91,13 @@ void addIntegratorSchema(ParameterList& valid) {
          "take the grid's velocity increment dt/2 (a_i + a_i,new); Projected: a_i projected from the "
          "particles' accelerations, v_p += dt/2 (a_p + a_p,new) (Guilkey & Weiss 2003), whose acceleration "
          "error grows at omega dt >> 1 (11 times the static stress after 40 large steps of a step load)");
-  choice(im, "Transfer", "FLIP", {"FLIP", "APIC", "TPIC"},
+  choice(im, "Transfer", "FLIP", {"FLIP", "APIC", "TPIC", "XPIC"},
          "particle velocity update. FLIP: by the grid's velocity increment (Equilibrium) or the particle's own "
          "Newmark rule (Projected); APIC, TPIC: the particles take the grid velocity at t + dt and its affine part "
-         "C_p, and carry it to the grid (see Integrator/Explicit/Transfer). APIC and TPIC need the lumped mass, no "
-         "projection correction and moving particles (not the FE reference)");
+         "C_p, and carry it to the grid; XPIC: FLIP's update from the XPIC(XPIC Order) velocity (see "
+         "Integrator/Explicit/Transfer). APIC, TPIC and XPIC need the lumped mass, no projection correction and "
+         "moving particles (not the FE reference)");
+  im.set("XPIC Order", 5, "Transfer XPIC: the order m of XPIC(m), 1 to 40 (1 = PIC)");
   im.set("Adaptive Time Step", false,
          "sub-step each deck step adaptively on the Newton iteration count (after Uintah's ImpMPM): a sub-step "
          "that took more than 12 Newton iterations shrinks the next by 0.6, one that took fewer than 4 doubles it "
@@ -227,15 +229,20 @@ ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
   return eopt;
 }
 
-// Integrator/Implicit/Transfer: APIC and TPIC move the particles with the lumped-mass grid's
+// Integrator/Implicit/Transfer: APIC, TPIC and XPIC move the particles with the lumped-mass grid's
 // velocity; the FE reference's Gauss points do not move, the consistent mass and the projection
 // correction act on v_p alone.
 static void readImplicitTransfer(ImplicitOptions& iopt, const ParameterList& im) {
   const std::string transfer = im.get<std::string>("Transfer");
-  iopt.transfer = transfer == "APIC" ? ParticleTransfer::Apic : transfer == "TPIC" ? ParticleTransfer::Tpic
-                                                                                  : ParticleTransfer::FlipPic;
+  iopt.transfer = transfer == "APIC"   ? ParticleTransfer::Apic
+                  : transfer == "TPIC" ? ParticleTransfer::Tpic
+                  : transfer == "XPIC" ? ParticleTransfer::Xpic
+                                       : ParticleTransfer::FlipPic;
+  iopt.xpicOrder = im.get<int>("XPIC Order");
   if (iopt.transfer == ParticleTransfer::FlipPic) return;
   const std::string key = "'Integrator/Implicit/Transfer' = " + transfer;
+  if (iopt.transfer == ParticleTransfer::Xpic && (iopt.xpicOrder < 1 || iopt.xpicOrder > 40))
+    throw DeckError("'Integrator/Implicit/XPIC Order' must lie in [1, 40], got " + std::to_string(iopt.xpicOrder));
   if (iopt.fixedParticles)
     throw DeckError(key + " moves the particles: the FE reference ('Method/Shape Function' = FE ...) keeps its Gauss "
                           "points in place; use Transfer FLIP");
@@ -243,7 +250,7 @@ static void readImplicitTransfer(ImplicitOptions& iopt, const ParameterList& im)
     throw DeckError(key + " needs 'Integrator/Implicit/Mass Matrix' = Lumped");
   if (iopt.projectionIterations > 0)
     throw DeckError(key + " needs 'Integrator/Implicit/Consistent Projection Iterations' = 0 (the projection "
-                          "correction corrects v_p, not the affine velocity), got " + std::to_string(iopt.projectionIterations));
+                          "correction acts on v_p alone), got " + std::to_string(iopt.projectionIterations));
 }
 
 // Integrator/Implicit: the Newmark scheme, the step control and the preconditioner refresh.

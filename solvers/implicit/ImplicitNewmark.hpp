@@ -28,6 +28,7 @@
 #include "solvers/Integrator.hpp"
 #include "solvers/newton/NewtonSolver.hpp"
 #include "solvers/ProjectionCorrection.hpp"
+#include "solvers/XpicExtrapolation.hpp"
 #include "solvers/implicit/FreeDofMap.hpp"
 #include "solvers/implicit/ImplicitStatistics.hpp"
 #include "solvers/implicit/NewmarkScheme.hpp"
@@ -88,7 +89,9 @@ struct ImplicitOptions {
   // FlipPic: the particle's own Newmark update of v_p (or the grid's increment, Equilibrium);
   // Apic, Tpic: v_p and C_p from the grid's end-of-step velocity (core/kernels/AffineTransfer.hpp),
   // with the lumped mass and moving particles only.
+  // Xpic: the FLIP update from the XPIC(xpicOrder) velocity (solvers/XpicExtrapolation.hpp).
   ParticleTransfer transfer = ParticleTransfer::FlipPic;
+  int xpicOrder = 5;
   // Adaptive sub-steps within each deck step on the Newton iteration count (see step()); the
   // smallest sub-step allowed (0: dt / 2^maxStepHalvings).
   bool adaptiveTimeStep = false;
@@ -167,6 +170,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   ImplicitOptions opt_;
   ProjectionCorrection<Shape, Dim> projection_;
   std::unique_ptr<FbarAveraging<Dim>> fbar_;
+  std::unique_ptr<XpicExtrapolation<Shape, Dim>> xpic_;
   std::unique_ptr<NewtonSolver> solver_;
   double dt_ = 0, massCutoff_ = 0;
   bool firstStep_ = true;

@@ -65,14 +65,16 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
                                   "the assembled Jacobian leaves out F-bar's coupling of the particles in a cell");
     fbar_ = std::make_unique<FbarAveraging<Dim>>(dist, mat_.count());
   }
+  if (opt_.transfer != ParticleTransfer::FlipPic &&
+      (opt_.fixedParticles || opt_.consistentMass || opt_.projectionIterations > 0))
+    throw std::invalid_argument("'Integrator/Implicit/Transfer' = APIC, TPIC or XPIC moves the particles with a "
+                                "lumped-mass grid: not with the FE reference, 'Mass Matrix' = Consistent or "
+                                "'Consistent Projection Iterations' > 0");
   if (carriesAffineVelocity(opt_.transfer)) {
-    if (opt_.fixedParticles || opt_.consistentMass || opt_.projectionIterations > 0)
-      throw std::invalid_argument("'Integrator/Implicit/Transfer' = APIC or TPIC moves the particles with a lumped-mass "
-                                  "grid: not with the FE reference, 'Mass Matrix' = Consistent or 'Consistent "
-                                  "Projection Iterations' > 0");
     if (!ps_.hasAffine()) ps_.allocateAffine();
     endKinematics_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), KinColumns<Dim>::Count));
   }
+  if (opt_.transfer == ParticleTransfer::Xpic) xpic_ = std::make_unique<XpicExtrapolation<Shape, Dim>>(dist, opt_.xpicOrder);
   if (opt_.fixedParticles) {
     gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * Dim));
     if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ps_.newVector("u");
@@ -536,6 +538,9 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
   }
   if (opt_.transfer == ParticleTransfer::Apic) return updateAffineParticles<ParticleTransfer::Apic>();
   if (opt_.transfer == ParticleTransfer::Tpic) return updateAffineParticles<ParticleTransfer::Tpic>();
+  // XPIC: v_p <- sum S v* from the step's start velocity; the update below adds the increment.
+  if (xpic_) xpic_->replaceParticleVelocity(*stateOwned_, implicit::StateColumns<Dim>::Mass,
+                                            implicit::StateColumns<Dim>::VelX, ps_, conditions_, massCutoff_, true);
   const StructuredGrid g = dist_.grid();
   const LocalNodeIndexer ix = dist_.ghostedIndexer();
   auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
