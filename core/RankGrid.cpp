@@ -138,20 +138,44 @@ std::vector<int> balancedCuts(const std::vector<double>& weights, int parts, int
   std::vector<double> prefix(n + 1, 0.0);
   for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + weights[i];
   auto sum = [&](int a, int b) { return prefix[b] - prefix[a]; };
-  // Greedy: each part as long as it stays within `limit` and leaves minCells for every later part.
-  auto greedy = [&](double limit, std::vector<int>* cuts) {
+  // Which suffixes [b, n) split into k parts, each at least minCells wide and of weight at most
+  // `limit`: canFinish[k][b]. (Extending each part as far as the limit allows is not enough:
+  // with a minimum width, a shorter part can be what lets a later part avoid a heavy cell.)
+  // Weights are non-negative, so the parts that may start at b end in a window [b + minCells,
+  // e(b)] with e non-decreasing in b, and a running count of canFinish[k - 1] answers each b.
+  auto suffixSplits = [&](double limit) {
+    std::vector<std::vector<char>> canFinish(parts + 1, std::vector<char>(n + 1, 0));
+    canFinish[0][n] = 1;
+    std::vector<int> count(n + 2, 0);
+    for (int k = 1; k <= parts; ++k) {
+      for (int j = 0; j <= n; ++j) count[j + 1] = count[j] + canFinish[k - 1][j];
+      int e = 0;  // the furthest end with sum(b, e) <= limit
+      for (int b = 0; b <= n; ++b) {
+        e = std::max(e, b);
+        while (e < n && sum(b, e + 1) <= limit) ++e;
+        const int first = b + minCells;
+        if (first <= e) canFinish[k][b] = count[e + 1] - count[first] > 0;
+      }
+    }
+    return canFinish;
+  };
+  // The cuts within `limit`: each part as long as the limit allows while the rest can still be
+  // split (so that, among optimal cuts, the earlier parts are the longer ones).
+  auto cutsWithin = [&](double limit, std::vector<int>* cuts) {
+    const auto canFinish = suffixSplits(limit);
+    if (!canFinish[parts][0]) return false;
+    if (!cuts) return true;
+    cuts->assign(1, 0);
     int a = 0;
-    if (cuts) cuts->assign(1, 0);
-    for (int r = 0; r < parts - 1; ++r) {
+    for (int left = parts; left > 1; --left) {
       int b = a + minCells;
-      if (sum(a, b) > limit) return false;
-      const int last = n - (parts - 1 - r) * minCells;  // the furthest this part may end
-      while (b < last && sum(a, b + 1) <= limit) ++b;
-      if (cuts) cuts->push_back(b);
+      for (int e = a + minCells; e <= n && sum(a, e) <= limit; ++e)
+        if (canFinish[left - 1][e]) b = e;
+      cuts->push_back(b);
       a = b;
     }
-    if (cuts) cuts->push_back(n);
-    return sum(a, n) <= limit;
+    cuts->push_back(n);
+    return true;
   };
   auto largestPart = [&](const std::vector<int>& c) {
     double worst = 0;
@@ -162,10 +186,10 @@ std::vector<int> balancedCuts(const std::vector<double>& weights, int parts, int
   double lo = 0, hi = prefix[n];
   for (int it = 0; it < 200 && hi - lo > 1e-9 * std::max(1.0, prefix[n]); ++it) {
     const double mid = 0.5 * (lo + hi);
-    (greedy(mid, nullptr) ? hi : lo) = mid;
+    (cutsWithin(mid, nullptr) ? hi : lo) = mid;
   }
   std::vector<int> cuts;
-  greedy(hi, &cuts);
+  cutsWithin(hi, &cuts);
   const double optimum = largestPart(cuts);
   bool currentValid = (int)current.size() == parts + 1 && current.front() == 0 && current.back() == n;
   for (size_t r = 0; currentValid && r + 1 < current.size(); ++r) currentValid = current[r + 1] - current[r] >= minCells;

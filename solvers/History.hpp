@@ -53,6 +53,9 @@ struct RunResult {
   int migrations = 0, rebalances = 0;
   long long migratedParticles = 0;
   double loadImbalance = 1.0, loadImbalanceMax = 1.0;
+  // The worst imbalance left right after a rebalance (0 before the first): what the balancer
+  // achieves, as opposed to what migration between two checks brings back.
+  double loadImbalanceAfterRebalanceMax = 0.0;
   // Peak resident memory of the process (getrusage), the largest rank's and the sum over ranks,
   // in bytes; set when the summary is written.
   double peakResidentBytesMax = 0, peakResidentBytesTotal = 0;

@@ -327,6 +327,7 @@ void Simulation::balanceLoad(History& history, RunResult& r) {
   ++r.rebalances;
   history.locateMonitors();
   noteLoadImbalance(r);
+  r.loadImbalanceAfterRebalanceMax = std::max(r.loadImbalanceAfterRebalanceMax, r.loadImbalance);
 }
 
 // After step `step`: particles migrate to their ranks (lazily, Migration Slack Cells), the load is

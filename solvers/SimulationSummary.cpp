@@ -104,6 +104,7 @@ void Simulation::writeSummary(const RunResult& r) const {
     d.set("Rebalances", r.rebalances);
     d.set("Load Imbalance", r.loadImbalance);
     d.set("Load Imbalance Max", r.loadImbalanceMax);
+    if (r.rebalances > 0) d.set("Load Imbalance After Rebalance Max", r.loadImbalanceAfterRebalanceMax);
   }
   s.set("Threads", (int)ExecutionSpace::concurrency());
   s.set("Execution Space", std::string(ExecutionSpace::name()));

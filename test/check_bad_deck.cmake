@@ -46,6 +46,7 @@ function(run_and_check name deck output np expected_rc key)
     message(FATAL_ERROR "${name}: stderr does not name '${key}': ${err}")
   endif()
   message(STATUS "${name} (np ${np}, exit ${rc}): ok: ${lines}")
+  set(error_line "${lines}" PARENT_SCOPE)  # for the checks that read numbers from the message
 endfunction()
 
 # A bad deck: exit 2, the key named, nothing written. NP (default 1) and OUTPUT (default
@@ -70,6 +71,7 @@ function(expect_failure name search replace key)
   if((EXISTS "${C_OUTPUT}" AND NOT existed) OR IS_DIRECTORY "${C_OUTPUT}")
     message(FATAL_ERROR "${name}: output was written for a bad deck")
   endif()
+  set(error_line "${error_line}" PARENT_SCOPE)
 endfunction()
 
 expect_failure(unknown_key "    Density: 7800.0" "    Density: 7800.0\n    Densty: 1.0" "Material/Densty")
@@ -156,9 +158,26 @@ expect_failure(huge_grid "Cells X: 30" "Cells X: 2000000000" "'Grid/Cells X' x '
 set(ppc "Particles Per Cell X: 5\n    Particles Per Cell Y: 5")
 expect_failure(particle_count_overflow "${ppc}" "Particles Per Cell X: 50000\n    Particles Per Cell Y: 50000"
                "the bodies make an estimated 7.5e+10 particles ('Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 50000 x 50000), more than the 2147483647")
-# 1.9e9 particles, ~570 GB: more than any test machine has.
+# 30 x 1 cells of 8000 x 8000 particles: 1.92e9 particles, whose views alone take 216 bytes each
+# in 2D (ParticleSet::bytesPerParticle), 414.72 GB: more than any test machine has. The estimate
+# must count every particle, at least those bytes for each, and add the grid's share.
 expect_failure(out_of_memory "${ppc}" "Particles Per Cell X: 8000\n    Particles Per Cell Y: 8000"
-               "the run needs an estimated 568.37 GB")
+               "the run needs an estimated")
+if(NOT error_line MATCHES "needs an estimated ([0-9.]+) GB \\(grid ([0-9.]+) GB: [^)]*particles ([0-9.]+) GB: ([0-9.e+]+) particles")
+  message(FATAL_ERROR "out_of_memory: the estimate's parts are not in the message: ${error_line}")
+endif()
+set(total_gb ${CMAKE_MATCH_1})
+set(grid_gb ${CMAKE_MATCH_2})
+set(particle_gb ${CMAKE_MATCH_3})
+set(particle_count ${CMAKE_MATCH_4})
+math(EXPR expected_particles "30 * 8000 * 8000")
+math(EXPR view_bytes "30 * 8000 * 8000 * 216")
+if(NOT particle_count EQUAL expected_particles OR particle_gb LESS 414.72 OR total_gb LESS particle_gb
+   OR total_gb LESS grid_gb)
+  message(FATAL_ERROR "out_of_memory: estimated ${total_gb} GB (grid ${grid_gb}, particles ${particle_gb} GB for "
+                      "${particle_count} particles): want ${expected_particles} particles, at least ${view_bytes} bytes "
+                      "for their views, and a total of at least its parts")
+endif()
 string(REPLACE "  Grid:" "    Memory Limit GB: 1\n  Grid:" good "${good_bar}")
 expect_failure(memory_limit "${ppc}" "Particles Per Cell X: 500\n    Particles Per Cell Y: 500"
                "'Bodies/Body/Particles Per Cell X' x 'Particles Per Cell Y' = 500 x 500), more than 'Problem/Memory Limit GB' = 1" NP 2)
@@ -196,9 +215,16 @@ string(REPLACE "      FLIP Fraction: 1.0" "      FLIP Fraction: 1.0\n      Stabi
 string(REPLACE "Plot: true" "Plot: false" disks "${disks}")
 foreach(np 1 2)
   set(output "${WORK}/out_inverted_np${np}")
-  run_and_check(inverted_np${np} "${disks}" "${output}" ${np} 1 "particle 135 of body 'lower disk'")
+  run_and_check(inverted_np${np} "${disks}" "${output}" ${np} 1 "of body 'lower disk'")
+  if(NOT error_line MATCHES "particle ([0-9]+) of body 'lower disk'")
+    message(FATAL_ERROR "inverted_np${np}: the message names no particle by id: ${error_line}")
+  endif()
+  set(inverted_id_np${np} ${CMAKE_MATCH_1})
+  if(np EQUAL 2 AND NOT inverted_id_np2 EQUAL inverted_id_np1)
+    message(FATAL_ERROR "inverted: np 2 names particle ${inverted_id_np2}, np 1 particle ${inverted_id_np1}")
+  endif()
   file(READ "${output}/summary.yaml" summary)
-  foreach(expected "Status: diverged" "is inverted: det F = -")
+  foreach(expected "Status: diverged" "is inverted: det F = -" "particle ${inverted_id_np${np}} of body ")
     string(FIND "${summary}" "${expected}" found)
     if(found EQUAL -1)
       message(FATAL_ERROR "inverted_np${np}: summary.yaml lacks '${expected}': ${summary}")
@@ -321,9 +347,26 @@ foreach(np 1 2)
   string(REPLACE "History Interval: 10" "History Interval: 1" deck "${deck}")
   string(REPLACE "Plot: true" "Plot: false" deck "${deck}")
   set(output "${WORK}/out_diverged_np${np}")
-  run_and_check(diverged_np${np} "${deck}" "${output}" ${np} 1 "the run diverged at step 5 (t = 1e-06 s)")
+  run_and_check(diverged_np${np} "${deck}" "${output}" ${np} 1 "the run diverged at step")
+  # The step N the message names: its time is N dt, summary.yaml records N - 1 good steps and the
+  # failed step N, history.csv holds steps 0 to N - 1, and np 2 stops at the same step as np 1.
+  if(NOT error_line MATCHES "the run diverged at step ([0-9]+) \\(t = ([0-9.e+-]+) s\\)")
+    message(FATAL_ERROR "diverged_np${np}: no step and time in the message: ${error_line}")
+  endif()
+  set(failed_step ${CMAKE_MATCH_1})
+  set(failed_time ${CMAKE_MATCH_2})
+  math(EXPR good_steps "${failed_step} - 1")
+  math(EXPR expected_rows "${failed_step} + 1")
+  math(EXPR time_in_ns "${failed_step} * 200")
+  if(failed_step LESS 2 OR NOT failed_step LESS 100 OR NOT failed_time EQUAL "${time_in_ns}e-9")
+    message(FATAL_ERROR "diverged_np${np}: step ${failed_step} at t = ${failed_time} s: want 1 < N < 100 and t = N x 2e-7 s")
+  endif()
+  set(diverged_step_np${np} ${failed_step})
+  if(np EQUAL 2 AND NOT diverged_step_np2 EQUAL diverged_step_np1)
+    message(FATAL_ERROR "diverged: np 2 stopped at step ${diverged_step_np2}, np 1 at ${diverged_step_np1}")
+  endif()
   file(READ "${output}/summary.yaml" summary)
-  foreach(expected "Status: diverged" "Steps: 4" "Step: 5")
+  foreach(expected "Status: diverged" "Steps: ${good_steps}\n" "Step: ${failed_step}\n")
     string(FIND "${summary}" "${expected}" found)
     if(found EQUAL -1)
       message(FATAL_ERROR "diverged_np${np}: summary.yaml lacks '${expected}': ${summary}")
@@ -331,8 +374,8 @@ foreach(np 1 2)
   endforeach()
   file(STRINGS "${output}/history.csv" rows)
   list(LENGTH rows nrows)
-  if(NOT nrows EQUAL 6)  # the header and steps 0 to 4
-    message(FATAL_ERROR "diverged_np${np}: history.csv has ${nrows} lines, expected 6 (header, steps 0 to 4)")
+  if(NOT nrows EQUAL expected_rows)  # the header and steps 0 to N - 1
+    message(FATAL_ERROR "diverged_np${np}: history.csv has ${nrows} lines, expected ${expected_rows} (header, steps 0 to ${good_steps})")
   endif()
 endforeach()
 # Output intervals: History Interval 0 and a negative VTK Interval have no meaning.

@@ -39,12 +39,14 @@ void checkDisks(const std::string& method, Teuchos::FancyOStream& out, bool& suc
   // Energy: a few percent lost in the collision (the single-velocity grid makes the disks
   // stick, which is dissipative), never gained. Measured (MPM / GIMP): drift -2.5% / -2.3%, largest
   // deviation 7.3% / 7.0% (mid-collision), peak strain energy 0.90 of the initial total (the
-  // collision turns most kinetic energy into strain). Asserted: drift in (-5%, 0], deviation
-  // below 10%, peak strain energy between 0.5 and 1 of the initial total (a doubled strain
-  // energy, or energy created, fails).
-  TEST_COMPARE(r.energyRelativeDrift, >, -0.05);
+  // collision turns most kinetic energy into strain). Asserted: drift in (-3%, 0], deviation
+  // below 8% (each about 1.2 times the larger of the two measured: the runs are deterministic and
+  // agree across rank counts to 1e-10, so the margin covers only compiler and library changes),
+  // peak strain energy between 0.5 and 1 of the initial total (a doubled strain energy, or energy
+  // created, fails).
+  TEST_COMPARE(r.energyRelativeDrift, >, -0.03);
   TEST_COMPARE(r.energyRelativeDrift, <=, 0.0);
-  TEST_COMPARE(r.energyMaxRelativeDeviation, <, 0.1);
+  TEST_COMPARE(r.energyMaxRelativeDeviation, <, 0.08);
   double maxStrain = 0;
   for (double s : r.strain) maxStrain = std::max(maxStrain, s);
   const double e0 = r.kinetic.front() + r.strain.front();

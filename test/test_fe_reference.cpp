@@ -102,10 +102,11 @@ double beamError(const std::string& shape, Teuchos::FancyOStream& out) {
   return r.relativeL2.at("w_mid");
 }
 
-// Measured 0.78% on 20 x 2 Q9 elements (0.15% on 40 x 4, so the error is spatial and
-// converges). 1.5% allows for thread-order round-off, and is far below what a wrong model
-// gives: against Euler-Bernoulli the same run is 18% off, against the plain E 127%.
-TEUCHOS_UNIT_TEST(FeReference, Q9BeamMatchesTimoshenko) { TEST_COMPARE(beamError("FE Q9", out), <, 0.015); }
+// Measured 0.78% on 20 x 2 Q9 elements (the seed's 40 x 4 nodes). The direct solve is
+// deterministic, so 0.9% leaves room only for compiler and library changes, and is far below
+// what a wrong model gives: against Euler-Bernoulli the same run is 18% off, against the plain
+// E 127%.
+TEUCHOS_UNIT_TEST(FeReference, Q9BeamMatchesTimoshenko) { TEST_COMPARE(beamError("FE Q9", out), <, 0.009); }
 
 // Fully integrated Q4 locks in bending: the beam is far too stiff (measured 136%).
 TEUCHOS_UNIT_TEST(FeReference, Q4BeamLocks) { TEST_COMPARE(beamError("FE Q4", out), >, 0.5); }

@@ -245,14 +245,15 @@ std::array<double, 4> j2JacobianMismatch(double amplitude, Teuchos::FancyOStream
 
 // Displacement gradients up to ~1e-3 (about the yield strain: some particles yield, some not)
 // and up to ~2e-2 (all yield). Measured 1e-8 to 2e-8, against 0.2 to 0.8 with the elastic
-// tangent; bound 1e-5, as for the small-strain checks above.
+// tangent; bound 1e-7, five times the worst measured and still six orders below the elastic
+// tangent's mismatch.
 TEUCHOS_UNIT_TEST(Implicit, J2AssembledIsTheJacobian) {
   for (const double amplitude : {2e-7, 5e-6})
     for (const auto& r : {j2JacobianMismatch<LinearMpm>(amplitude, out), j2JacobianMismatch<Cpdi>(amplitude, out),
                           j2JacobianMismatch<UniformGimp>(amplitude, out), j2JacobianMismatch<ConvectedGimp>(amplitude, out)}) {
       TEST_COMPARE(r[2], >, 0.3);
       TEST_COMPARE(r[3], >=, 1e-4);
-      TEST_COMPARE(r[0], <, 1e-5);
+      TEST_COMPARE(r[0], <, 1e-7);
       TEST_COMPARE(r[1], >, 0.05);
     }
 }

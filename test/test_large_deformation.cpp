@@ -31,7 +31,11 @@ using Teuchos::ParameterList;
 
 struct ColumnErrors {
   double stressL2 = 0;     // relative L2 of sigma_yy over the particles
-  double topRelative = 0;  // |u_top - exact| / |exact|
+  double topRelative = 0;  // |u_top - exact| / |exact|, at the end
+  // The largest of it over the rows where the full load is held (t >= the gravity's ramp time):
+  // the end value alone depends on the phase of the average-acceleration rule's undamped
+  // period-two-step oscillation at omega dt >> 1 (doc/verification.md, section 6).
+  double topHoldMax = 0;
   double topSettlement = 0;
   double newtonMean = 0, krylovMean = 0;
 };
@@ -89,12 +93,17 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   e.topSettlement = history.at("top settlement").back();
   const double exactTop = exact.displacementY(height - 0.25 * h, 1.0);
   e.topRelative = std::abs(e.topSettlement - exactTop) / std::abs(exactTop);
+  const double rampTime = deck->sublist("Loads").sublist("gravity").get<double>("Ramp Time");
+  const auto& times = history.at("time");
+  for (size_t k = 0; k < times.size(); ++k)
+    if (times[k] >= rampTime * (1 - 1e-12))
+      e.topHoldMax = std::max(e.topHoldMax, std::abs(history.at("top settlement")[k] - exactTop) / std::abs(exactTop));
   // The solver's figures, from summary.yaml.
   e.newtonMean = impm_test::summaryValue(dir, "Newton Iterations Mean");
   e.krylovMean = impm_test::summaryValue(dir, "Krylov Iterations Per Newton Mean");
   out << std::setprecision(4) << shape << " " << model << " column, " << cellsY << " cells: sigma_yy relative L2 " << e.stressL2
       << ", top settlement " << e.topSettlement << " m (exact " << exactTop << ", error " << e.topRelative
-      << "); JFNK: " << e.newtonMean << " Newton iterations per step, " << e.krylovMean << " GMRES per Newton\n";
+      << ", largest while the load is held " << e.topHoldMax << "); JFNK: " << e.newtonMean << " Newton iterations per step, " << e.krylovMean << " GMRES per Newton\n";
   return e;
 }
 
@@ -143,7 +152,8 @@ TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnCpGimpConverges) {
   TEST_COMPARE(medium.stressL2, <, coarse.stressL2);
   // Measured 0.3% at 40 cells; the bound leaves room for the quasi-static steps' inertia.
   TEST_COMPARE(fine.stressL2, <, 0.01);
-  TEST_COMPARE(fine.topRelative, <, 0.005);
+  // Settlement: measured 0.118% at most while the load is held (40 cells); bound 0.2%.
+  TEST_COMPARE(fine.topHoldMax, <, 0.002);
   // The solver targets with the lagged (once per step) preconditioner: Newton <= 6 per
   // step, GMRES <= 15 per Newton (measured 3.8 and 7 at 20 cells).
   for (const ColumnErrors* e : {&coarse, &medium, &fine}) {
@@ -241,7 +251,7 @@ TEUCHOS_UNIT_TEST(LargeDeformation, J2ColumnMatchesTheElastoplasticSolution) {
   TEST_COMPARE(std::abs(fine.topSettlement), >, 1.1 * std::abs(elastic.topSettlement));  // measured 0.148 m against 0.125 m
   TEST_COMPARE(fine.stressL2, <, medium.stressL2);
   TEST_COMPARE(fine.stressL2, <, 0.01);
-  TEST_COMPARE(fine.topRelative, <, 0.005);
+  TEST_COMPARE(fine.topHoldMax, <, 0.002);  // measured 0.148% at most while the load is held
   TEST_COMPARE(fine.newtonMean, <=, 6.0);
   TEST_COMPARE(fine.krylovMean, <=, 15.0);
 }

@@ -204,14 +204,14 @@ bool throwsNaming(F f, const std::vector<std::string>& parts, std::ostream& out)
   return false;
 }
 
-// Largest problem of SetupCostIsSmall; --newton-max-size=100000 for the full measurement.
+// Largest problem of SetupIsBuiltOnceAndReused; --newton-max-size=100000 for the full measurement.
 int maxSetupSize = 10000;
 
 }  // namespace
 
 TEUCHOS_STATIC_SETUP() {
   Teuchos::UnitTestRepository::getCLP().setOption(
-      "newton-max-size", &maxSetupSize, "largest number of unknowns in NewtonSolver.SetupCostIsSmall");
+      "newton-max-size", &maxSetupSize, "largest number of unknowns in NewtonSolver.SetupIsBuiltOnceAndReused");
 }
 
 TEUCHOS_UNIT_TEST(NewtonSolver, ValidParametersAreDocumentedWithDefaults) {
@@ -500,9 +500,10 @@ TEUCHOS_UNIT_TEST(NewtonSolver, MapMayChangeBetweenSolves) {
   TEST_THROW(solver.solve(a, wrongMap), std::invalid_argument);
 }
 
-TEUCHOS_UNIT_TEST(NewtonSolver, SetupCostIsSmall) {
+TEUCHOS_UNIT_TEST(NewtonSolver, SetupIsBuiltOnceAndReused) {
   // Model evaluator, NOX group, status tests and solver are built at the first solve() and reset at the
-  // next ones (same model and map): measure both against the solve itself (printed; loose bound only).
+  // next ones (same model and map). Asserted: the second solve reuses the set-up. The set-up and solve
+  // times are printed as a measurement only (a wall-time bound would test the machine, not impm).
   for (GO n = 1000; n <= maxSetupSize; n *= 10) {
     for (const char* jac : {"Jacobian-Free", "Assembled"}) {
       NewmarkBar bar(n, kCubic);
@@ -518,7 +519,6 @@ TEUCHOS_UNIT_TEST(NewtonSolver, SetupCostIsSmall) {
           << "\n";
       TEST_ASSERT(r.converged && r2.converged);
       TEST_ASSERT(!r.reusedSetUp && r2.reusedSetUp);
-      TEST_ASSERT(r.setupSeconds < 0.5);
     }
   }
 }

@@ -73,12 +73,18 @@ void checkIndependence(const std::string& name, ParameterList deck, const std::v
     const impm::RunResult r = run(d, comm, "test_output/partition_" + name + "_np" + std::to_string(np) + "_" + tag);
     TEST_EQUALITY_CONST(r.status, "completed");
     out << name << " " << tag << ": " << r.migrations << " migrations, " << r.migratedParticles << " particles moved, "
-        << r.rebalances << " rebalances, imbalance " << r.loadImbalance << " (worst " << r.loadImbalanceMax << ")\n";
+        << r.rebalances << " rebalances, imbalance " << r.loadImbalance << " (worst " << r.loadImbalanceMax
+        << ", worst after a rebalance " << r.loadImbalanceAfterRebalanceMax << ")\n";
     if (d.sublist("Decomposition").get<int>("Load Balance Interval", 0) == 0) {
       TEST_COMPARE(r.migratedParticles, >, 0);  // the particles did cross rank boundaries
     } else {  // (the balancer moves particles with the cuts, which need not leave migrations to do)
       TEST_COMPARE(r.rebalances, >, 0);
-      TEST_COMPARE(r.loadImbalance, <, r.loadImbalanceMax);  // the balancer did improve on the worst
+      // Every rebalance left less imbalance than the worst seen. How far it can go depends on the
+      // particles per cell column and the minimum slab width (measured after a rebalance: 1.07,
+      // 1.2 and 1.28 at np 2, 3 and 4, from worsts of 1.46, 1.75 and 2.08); that the cuts are
+      // the optimal ones is RankGrid.BalancedCutsAreOptimal's assertion (test_rank_grid).
+      TEST_COMPARE(r.loadImbalanceAfterRebalanceMax, >=, 1.0);
+      TEST_COMPARE(r.loadImbalanceAfterRebalanceMax, <, r.loadImbalanceMax);
     }
     if (rank != 0) continue;
     TEST_COMPARE(r.computed.size(), >, 0u);

@@ -7,16 +7,31 @@ from cases import EXPLICIT_DT_FRACTION, GRIDS, STABLE_USER_DECK
 
 # Problem 1: each method's error of u_x(L, t) and u_x(L/2, t) may be at most this multiple of the
 # error of a 1D lumped-mass rod model with the seed's 30 cells along the bar (analysis.bar_fe1d),
-# computed at the same dt, window, monitored point and modulus. Every method here resolves the
-# bar at least as finely as 30 linear elements; what limits all of them is the dispersion of the
-# step front on that resolution, which the 1D model measures. The factor 2 leaves room for the 2D
-# effects (Poisson coupling at the loaded face, particle quadrature) and for mass lumping or
-# projection differences between the methods, while still catching an error that is a few times
-# too large (a wrong modulus shifts the front by 5%, which fails at any window length).
-BAR_TOLERANCE_FACTOR = 2.0
+# computed at the same dt, window, monitored point and modulus, against the closed form written in
+# analysis.bar_closed_form (not impm's exact column). Every method here resolves the bar at least as
+# finely as 30 linear elements; what limits all of them is the dispersion of the step front on that
+# resolution, which the 1D model measures. On the seed's grids the methods' errors are 0.93 to 1.08
+# times the 1D model's (FE Q9 0.12); 1.25 leaves room for the 2D effects (Poisson coupling at the
+# loaded face, particle quadrature) and the different mass treatments, and fails an error a quarter
+# larger than the rod's (a modulus 5% off shifts the front by 2.5% of the window: about twice the
+# error).
+BAR_TOLERANCE_FACTOR = 1.25
 BAR_CHECKED_MONITORS = ("ux_L", "ux_half")
+# impm's exact column against analysis.bar_closed_form: the same closed form evaluated twice (C++
+# and numpy) and written at 17 digits; 1e-12 is round-off on the ramps' sums.
+EXACT_COLUMN_AGREEMENT = 1e-12
 NEWMARK_ORDER_RANGE = (1.8, 2.2)
-BUDGET_CLOSURE_MAX = 0.01
+# Problem 2's budget closure is bookkeeping, not physics: the links telescope, so the sum of the
+# d_k differs from e_total = M - EB(E) only by the two implementations of the Euler-Bernoulli
+# series (impm's column and impm_beam_exact's) and by the alignment of the rows. It measures
+# about 1e-10; 1e-8 still catches a missing or misaligned link.
+BUDGET_CONSISTENCY_MAX = 1e-8
+# Problem 2 under grid refinement (full report): linear MPM and GIMP lock on the talk's 40 x 4 grid
+# (measured 121%, asserted above 100%: the locking the talk shows) and converge: the error falls
+# with every refinement, below 10% on 160 x 16 cells (measured 8.75%; 1.14 times that).
+BEAM_LOCKING_MIN = 1.0
+BEAM_FINEST_MAX = 0.10
+BEAM_LOCKING_METHODS = ("implicit MPM", "implicit GIMP")
 SUMMARY_AGREEMENT = 1e-6
 NEWMARK_ASSERTED = ("FE Q4", "implicit MPM, consistent mass")
 NEWMARK_NOT_ASSERTED = {
@@ -30,8 +45,10 @@ NEWMARK_NOT_ASSERTED = {
 
 class Check:
     """One target: passed True/False, or None for a figure that is reported but not asserted (INFO)."""
-    def __init__(self, name, passed, detail):
-        self.name, self.passed, self.detail = name, passed, detail
+    def __init__(self, name, passed, detail, consistency=False):
+        # consistency: a check of the report's own bookkeeping (two code paths agree), not a
+        # comparison with an exact or published solution; counted apart from the targets.
+        self.name, self.passed, self.detail, self.consistency = name, passed, detail, consistency
 
     @property
     def failed(self):
@@ -63,6 +80,11 @@ def evaluate(results):
             checks.append(Check(f"Problem 1 {method}, {plane.lower()}, {mon}", ok,
                                 f"relative L2 error {100 * e:.3f}% <= {100 * tol:.3f}% "
                                 f"({BAR_TOLERANCE_FACTOR:g} x the 1D {GRIDS[('bar', 'MPM')][0]}-element model's {100 * ref:.3f}%)"))
+        for mon, dev in entry["exact_column"].items():
+            ok = _finite(dev) and dev <= EXACT_COLUMN_AGREEMENT
+            checks.append(Check(f"Problem 1 exact column, {method}, {plane.lower()}, {mon}", ok,
+                                f"impm's {mon}_exact against the closed form of analysis.py: relative L2 "
+                                f"{dev:.1e} <= {EXACT_COLUMN_AGREEMENT:g}"))
     # Newmark: self-convergence in dt (finest pair). Asserted where the discretisation is
     # Newmark's rule applied to a semi-discrete system whose spectrum the dt resolves (FE Q4 and
     # consistent-mass MPM on the bar); the other series are reported (see the report's text).
@@ -80,17 +102,33 @@ def evaluate(results):
                 checks.append(Check(f"Newmark self-convergence order, {s.problem} {method}, {mon}", passed,
                                     f"log2(d_k/d_k+1) = {o:.3f}" + (f" in [{lo}, {hi}]" if asserted else "")
                                     + f" (d = {', '.join(f'{d:.3e}' for d in diffs)})" + why))
-    # Budget closure.
+    # Problem 2: locking on the talk's grid, convergence under refinement.
+    for st in results["studies"]:
+        s = st["study"]
+        if s.key != "beam_grid":
+            continue
+        for method in BEAM_LOCKING_METHODS:
+            e = st["errors"].get(method, {}).get("w_mid")
+            if not e:
+                continue
+            ok = (_finite(*e) and e[0] > BEAM_LOCKING_MIN and all(b < a for a, b in zip(e[:-1], e[1:]))
+                  and e[-1] < BEAM_FINEST_MAX)
+            checks.append(Check(f"Problem 2 grid refinement, {method}", ok,
+                                "w(L/2, t) relative L2 " + ", ".join(f"x{f}: {100 * v:.3g}%" for f, v in zip(s.factors, e))
+                                + f" (locked above {100 * BEAM_LOCKING_MIN:g}% on the talk's grid, falling with every "
+                                f"refinement, below {100 * BEAM_FINEST_MAX:g}% on the finest)"))
+    # Budget closure: bookkeeping of the chain (consistency, not a physics target).
     for method, b in results["budget"].items():
+        name = f"Problem 2 budget bookkeeping (consistency), {method}"
         if isinstance(b, str):
-            checks.append(Check(f"Problem 2 budget closure, {method}", False, b))
+            checks.append(Check(name, False, b, consistency=True))
             continue
         aligned = b["rows_used"] == b["rows_model"]
-        ok = _finite(b["closure"]) and b["closure"] <= BUDGET_CLOSURE_MAX and aligned
-        checks.append(Check(f"Problem 2 budget closure, {method}", ok,
-                            f"||e_total - sum d_k|| / ||e_total|| = {b['closure']:.2e} <= {BUDGET_CLOSURE_MAX:g}; "
+        ok = _finite(b["closure"]) and b["closure"] <= BUDGET_CONSISTENCY_MAX and aligned
+        checks.append(Check(name, ok,
+                            f"||e_total - sum d_k|| / ||e_total|| = {b['closure']:.2e} <= {BUDGET_CONSISTENCY_MAX:g}; "
                             f"shares sum to {b['share_sum']:.6f}; every computation has all {b['rows_model']} rows of M"
-                            + ("" if aligned else f" (only {b['rows_used']} in common)")))
+                            + ("" if aligned else f" (only {b['rows_used']} in common)"), consistency=True))
     # Every run of the report completed.
     failed = [r for r in results["all_runs"] if not r.ok]
     checks.append(Check("every run completed", not failed, f"{len(results['all_runs']) - len(failed)} of "

@@ -47,7 +47,14 @@ LAWS = {"neohookean": "Neo-Hookean", "j2": "J2 Plasticity", "linear": "Linear El
 
 # --check targets (justified in the report's text, section 6).
 STRESS_MAX = 0.01          # cpGIMP neo-Hookean column, sigma_yy relative L2 at the finest grid
-SETTLEMENT_MAX = 0.005     # top settlement, cpGIMP neo-Hookean and J2 columns, finest grid
+# Top settlement while the load is held, cpGIMP neo-Hookean and J2 columns, on the finest grid of
+# the report (40 cells; 20 in the reduced one): measured 0.118% and 0.148% on 40 cells, 0.138% and
+# 0.188% on 20; each bound about 1.35 times the larger.
+SETTLEMENT_MAX_BY_CELLS = {40: 0.002, 20: 0.0025}
+
+
+def settlement_max(cells):
+    return SETTLEMENT_MAX_BY_CELLS.get(cells, max(SETTLEMENT_MAX_BY_CELLS.values()))
 NEWTON_MAX = 6.0           # mean Newton iterations per step
 GMRES_MAX = 15.0           # mean GMRES iterations per Newton iteration
 MOMENTUM_MAX = 1e-12       # disks: summary.yaml's Momentum/Max Relative Change
@@ -336,18 +343,20 @@ def evaluate(res):
                          and f["stress"] < STRESS_MAX,
                          f"relative L2 {100 * f['stress']:.3g}% < {100 * STRESS_MAX:g}% (one strain per cell would give "
                          f"{100 * f['cell_estimate']:.3g}%)"))
+        bound = settlement_max(cells[-1])
         out.append(Check(f"Large deformation, neo-Hookean column cpGIMP: top settlement at {cells[-1]} cells",
-                         fin(f["settlement_hold"]) and f["settlement_hold"] < SETTLEMENT_MAX,
+                         fin(f["settlement_hold"]) and f["settlement_hold"] < bound,
                          f"{f['settlement_value']:.5g} m against {f['settlement_exact']:.5g} m at the end; largest error "
-                         f"while the load is held {100 * f['settlement_hold']:.3g}% < {100 * SETTLEMENT_MAX:g}%"))
+                         f"while the load is held {100 * f['settlement_hold']:.3g}% < {100 * bound:g}%"))
     j2 = res["column"].get(("j2", "cpGIMP"))
     if j2:
         f = j2[-1]
+        bound = settlement_max(_cells(f["run"].case))
         out.append(Check(f"Large deformation, J2 column cpGIMP: top settlement at {_cells(f['run'].case)} cells",
-                         fin(f["settlement_hold"]) and f["settlement_hold"] < SETTLEMENT_MAX,
+                         fin(f["settlement_hold"]) and f["settlement_hold"] < bound,
                          f"{f['settlement_value']:.5g} m against the elastoplastic {f['settlement_exact']:.5g} m at the "
                          f"end; largest error while the load is held {100 * f['settlement_hold']:.3g}% < "
-                         f"{100 * SETTLEMENT_MAX:g}%"))
+                         f"{100 * bound:g}%"))
     # Solver targets on the cpGIMP columns (every law and grid).
     for law in LAWS:
         for r in res["column"].get((law, "cpGIMP"), []):
@@ -654,8 +663,9 @@ def markdown(res, rel_img):
           f"{100 * STRESS_MAX:g}% is just below the one-strain-per-cell error on 40 cells (about sqrt(3)/160 = "
           f"{100 * math.sqrt(3) / 160:.2f}%): a method that keeps the linear cells' own accuracy at finite strain "
           "passes, one whose domains overlap or whose particles jump between cells does not (uGIMP and MPM above).",
-          f"- Top settlement within {100 * SETTLEMENT_MAX:g}% of the exact for the cpGIMP neo-Hookean and J2 columns on "
-          "the finest grid, at every history row of the hold (not only the last, whose error depends on the phase of "
+          f"- Top settlement within {100 * settlement_max(CELLS[-1]):g}% of the exact ({100 * settlement_max(REDUCED_CELLS[-1]):g}% "
+          f"in the reduced report) for the cpGIMP neo-Hookean and J2 columns on "
+          "the finest grid (each bound about 1.35 times the larger of the two columns' errors measured there), at every history row of the hold (not only the last, whose error depends on the phase of "
           "the time integrator's oscillation). The bound leaves room for that oscillation" + osc + ", plus the spatial error, "
           "while an error of a different kind, like MPM's settlement above, is far outside it.",
           f"- JFNK: mean Newton iterations per step <= {NEWTON_MAX:g} and mean GMRES iterations per Newton iteration <= "

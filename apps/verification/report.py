@@ -172,7 +172,7 @@ def write(results, path, image_dir, meta):
             add("")
         if problem == "bar":
             add(f"The 1D lumped-mass rod model with the seed's {BAR_CELLS} elements along the bar (the Problem 1 tolerance of "
-                "`--check` is twice its error, section 4), at the implicit MPM runs' dt, monitored points and modulus:")
+                f"`--check` is {checks_mod.BAR_TOLERANCE_FACTOR:g} x its error, section 4; measured against the closed form of `analysis.py`), at the implicit MPM runs' dt, monitored points and modulus:")
             add("")
             rows = []
             for plane in PLANES:
@@ -285,8 +285,9 @@ def write(results, path, image_dir, meta):
         "The chain telescopes: the d_k add up to M - EB(E) exactly when every computation is sampled at the same "
         "times. e_total is taken independently from M's own history (`w_mid - w_mid_exact`, impm's Euler-Bernoulli "
         "series with `Exact Solution/Modulus: Young Modulus`), so closure "
-        f"‖e_total - sum d_k‖ <= {checks_mod.BUDGET_CLOSURE_MAX:.0%} ‖e_total‖ checks that nothing is missing, that "
-        "the two Euler-Bernoulli implementations agree and that the time series line up. First-mode frequency "
+        f"‖e_total - sum d_k‖ <= {checks_mod.BUDGET_CONSISTENCY_MAX:g} ‖e_total‖ checks the bookkeeping: that no link is "
+        "missing, that the two Euler-Bernoulli implementations agree and that the time series line up. It is a "
+        "consistency check (the sum telescopes), not a physics target. First-mode frequency "
         "shifts: 'exact' from the frequencies `impm_beam_exact` prints; 'fitted' from a least-squares fit of the "
         f"free-vibration part (forcing at {forcing:g} rad/s, plus the first mode and a mode at nine times its "
         "frequency) of each history in the chain; the fitted values of the exact histories are listed against the "
@@ -346,7 +347,15 @@ def write(results, path, image_dir, meta):
         f"{' and '.join(checks_mod.NEWMARK_ASSERTED)} on the bar (every monitor); the other series are INFO lines "
         "(section 2 says why).")
     add(f"- `{STABLE_USER_DECK}` has dt = {EXPLICIT_DT_FRACTION:g} of impm's stable limit and reaches t = 1 s.")
-    add(f"- Budget closure <= {checks_mod.BUDGET_CLOSURE_MAX:.0%} for every M, with every computation of the chain "
+    add(f"- Problem 2 (full report): implicit MPM and GIMP lock on the talk's 40 x 4 grid (error above "
+        f"{100 * checks_mod.BEAM_LOCKING_MIN:g}%) and their error falls with every grid refinement, below "
+        f"{100 * checks_mod.BEAM_FINEST_MAX:g}% on 160 x 16 cells.")
+    add(f"- Problem 1's exact column: impm's `ux_L_exact` and `ux_half_exact` agree with the closed form written "
+        f"independently in `apps/verification/analysis.py` to {checks_mod.EXACT_COLUMN_AGREEMENT:g} (relative L2); the 1D "
+        "model's error above is measured against that closed form, so a wrong exact column fails here instead of "
+        "widening the tolerance.")
+    add(f"- Budget bookkeeping (a consistency check, not a physics target): closure <= "
+        f"{checks_mod.BUDGET_CONSISTENCY_MAX:g} for every M, with every computation of the chain "
         "present at every history row of M.")
     add("- Every run of the report completed.")
     add("- The errors recomputed here from history.csv agree with impm's summary.yaml.")
