@@ -162,7 +162,7 @@ const TipResponse& feQ9Reference(Teuchos::FancyOStream& out) {
 }
 
 // FE Q9 against the Timoshenko beam: measured 0.95% longer (Euler-Bernoulli 1.958 s, Timoshenko
-// 1.968 s, FE Q9 1.987 s). The continuum on 2 elements through the depth differs from the beam
+// 1.973 s, FE Q9 1.992 s). The continuum on 2 elements through the depth differs from the beam
 // by its clamped face (no warping), the tip force at one node (local compliance), and the
 // period read from four mid-level crossings of a response that holds higher modes; Newmark's
 // elongation at dt = 0.01 s is 8e-5. Bound 2%: about twice the measured, and less than half of
