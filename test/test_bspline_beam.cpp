@@ -44,10 +44,10 @@ double beamError(const std::string& placement, Teuchos::FancyOStream& out, const
 }
 
 // Measured 0.73% (Gauss) against 7.95% (Uniform), both with the deck's 3 consistent-projection
-// iterations.
+// iterations. Bound 1% (1.37 times the measured; the seed's criterion is 2%).
 TEUCHOS_UNIT_TEST(BSplineBeam, QuadraticGaussWithinTwoPercentOfTimoshenko) {
   const double gauss = beamError("Gauss", out);
-  TEST_COMPARE(gauss, <, 0.02);
+  TEST_COMPARE(gauss, <, 0.01);
   TEST_COMPARE(beamError("Uniform", out), >, 3 * gauss);
 }
 
