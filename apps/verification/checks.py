@@ -5,21 +5,33 @@ import os
 import decks
 from cases import EXPLICIT_DT_FRACTION, GRIDS, STABLE_USER_DECK
 
-# Problem 1: each method's error of u_x(L, t) and u_x(L/2, t) may be at most this multiple of the
+# Problem 1: each method's error of u_x(L, t) and u_x(L/2, t) may be at most a factor times the
 # error of a 1D lumped-mass rod model with the seed's 30 cells along the bar (analysis.bar_fe1d),
 # computed at the same dt, window, monitored point and modulus, against the closed form written in
 # analysis.bar_closed_form (not impm's exact column). Every method here resolves the bar at least as
 # finely as 30 linear elements; what limits all of them is the dispersion of the step front on that
-# resolution, which the 1D model measures. On the seed's grids the methods' errors are 0.93 to 1.08
-# times the 1D model's (FE Q9 0.12); 1.25 leaves room for the 2D effects (Poisson coupling at the
-# loaded face, particle quadrature) and the different mass treatments, and fails an error a quarter
-# larger than the rod's (a modulus 5% off shifts the front by 2.5% of the window: about twice the
-# error).
+# resolution, which the 1D model measures. The lumped-mass methods (MPM and GIMP, explicit and
+# implicit) measure 0.93 to 1.08 times the 1D model's error over the full window and 1.01 to 1.08
+# over the reduced one: factor 1.25. The FE references use the consistent mass, whose dispersion
+# runs the other way, so the lumped rod is only an approximate yardstick for them: FE Q4 measures
+# 1.07 (full) and up to 1.31 (reduced window, plane stress), FE Q9 0.12 to 0.23: factor 1.5. Both
+# leave room for the 2D effects (Poisson coupling at the loaded face, particle quadrature) and fail
+# a wrong modulus by far: with E 5% off, the exact solution itself moves by 7.5% (reduced window)
+# to 20% (full window) in relative L2 at x = L.
 BAR_TOLERANCE_FACTOR = 1.25
+BAR_TOLERANCE_FACTOR_FE = 1.5
+
+
+def bar_tolerance_factor(method):
+    return BAR_TOLERANCE_FACTOR_FE if method.startswith("FE ") else BAR_TOLERANCE_FACTOR
+
+
 BAR_CHECKED_MONITORS = ("ux_L", "ux_half")
 # impm's exact column against analysis.bar_closed_form: the same closed form evaluated twice (C++
-# and numpy) and written at 17 digits; 1e-12 is round-off on the ramps' sums.
-EXACT_COLUMN_AGREEMENT = 1e-12
+# and numpy); history.csv keeps 10 significant digits, so they agree to about 1e-10 (measured
+# 8e-11 to 1.7e-10); 1e-8 leaves room for that rounding and still fails any error in the closed
+# form (a wrong modulus or load is a difference of percent).
+EXACT_COLUMN_AGREEMENT = 1e-8
 NEWMARK_ORDER_RANGE = (1.8, 2.2)
 # Problem 2's budget closure is bookkeeping, not physics: the links telescope, so the sum of the
 # d_k differs from e_total = M - EB(E) only by the two implementations of the Euler-Bernoulli
@@ -75,11 +87,12 @@ def evaluate(results):
             continue
         for mon in BAR_CHECKED_MONITORS:
             e, ref = entry["errors"][mon], entry["fe1d"][mon]
-            tol = BAR_TOLERANCE_FACTOR * ref
+            factor = bar_tolerance_factor(method)
+            tol = factor * ref
             ok = _finite(e, tol) and e <= tol
             checks.append(Check(f"Problem 1 {method}, {plane.lower()}, {mon}", ok,
                                 f"relative L2 error {100 * e:.3f}% <= {100 * tol:.3f}% "
-                                f"({BAR_TOLERANCE_FACTOR:g} x the 1D {GRIDS[('bar', 'MPM')][0]}-element model's {100 * ref:.3f}%)"))
+                                f"({factor:g} x the 1D {GRIDS[('bar', 'MPM')][0]}-element model's {100 * ref:.3f}%)"))
         for mon, dev in entry["exact_column"].items():
             ok = _finite(dev) and dev <= EXACT_COLUMN_AGREEMENT
             checks.append(Check(f"Problem 1 exact column, {method}, {plane.lower()}, {mon}", ok,
