@@ -68,11 +68,23 @@ inline History runDeck(Teuchos::ParameterList deck) {
   return readHistory(sim.outputDirectory() + "/history.csv");
 }
 
+// Largest difference over a history, relative to the largest magnitude of the reference; a
+// history of another length counts as infinitely different.
+inline double historyRelativeDifference(const std::vector<double>& values, const std::vector<double>& reference) {
+  if (values.size() != reference.size()) return INFINITY;
+  double diff = 0, scale = 0;
+  for (size_t i = 0; i < values.size(); ++i) {
+    diff = std::max(diff, std::abs(values[i] - reference[i]));
+    scale = std::max(scale, std::abs(reference[i]));
+  }
+  return scale > 0 ? diff / scale : diff;
+}
+
 // Rank-count independence of a run's monitored histories. At np > 1 each rank reruns `deck` alone
 // (its own communicator, its own output directory), and the result is the largest difference
 // between any monitor's history in `all` (the run on every rank) and in the one-rank run, relative
 // to that monitor's largest magnitude, as seen by every rank. At np 1 there is nothing to compare:
-// -1. A history of another length counts as infinitely different.
+// -1.
 inline double rankCountDifference(Teuchos::ParameterList deck, const impm::RunResult& all, const std::string& outdir) {
   auto comm = Tpetra::getDefaultComm();
   if (comm->getSize() == 1) return -1.0;
@@ -81,17 +93,10 @@ inline double rankCountDifference(Teuchos::ParameterList deck, const impm::RunRe
   auto self = comm->split(comm->getRank(), 0);
   impm::Simulation sim(deck, self, outdir + "_alone_rank" + std::to_string(comm->getRank()));
   const impm::RunResult one = runToCompletion(sim, "one-rank");
+  // (Every rank reaches the reduction below: no early return.)
   double worst = all.computed.empty() ? INFINITY : 0.0;
-  for (const auto& [monitor, values] : all.computed) {
-    const auto& reference = one.computed.at(monitor);
-    if (values.size() != reference.size()) return INFINITY;
-    double diff = 0, scale = 0;
-    for (size_t i = 0; i < values.size(); ++i) {
-      diff = std::max(diff, std::abs(values[i] - reference[i]));
-      scale = std::max(scale, std::abs(reference[i]));
-    }
-    worst = std::max(worst, scale > 0 ? diff / scale : diff);
-  }
+  for (const auto& [monitor, values] : all.computed)
+    worst = std::max(worst, historyRelativeDifference(values, one.computed.at(monitor)));
   double worstAll = worst;
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, worst, Teuchos::outArg(worstAll));
   return worstAll;

@@ -17,6 +17,7 @@
 #include "core/InputDeck.hpp"
 #include "solvers/build/Deck.hpp"
 #include "solvers/Simulation.hpp"
+#include "RunHistory.hpp"
 
 namespace {
 
@@ -30,16 +31,7 @@ impm::RunResult run(ParameterList deck, const Teuchos::RCP<const Teuchos::Comm<i
   return sim.run(log);
 }
 
-// Largest difference over the history, relative to the largest magnitude of the reference.
-double relativeDifference(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size()) return INFINITY;
-  double diff = 0, scale = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-    scale = std::max(scale, std::abs(b[i]));
-  }
-  return scale > 0 ? diff / scale : diff;
-}
+using impm_test::historyRelativeDifference;
 
 // Runs `deck` on all ranks in each rank grid of `layouts` and compares with one rank's run.
 void checkIndependence(const std::string& name, ParameterList deck, const std::vector<std::array<int, 3>>& layouts,
@@ -89,14 +81,14 @@ void checkIndependence(const std::string& name, ParameterList deck, const std::v
     if (rank != 0) continue;
     TEST_COMPARE(r.computed.size(), >, 0u);
     for (const auto& [monitor, values] : r.computed) {
-      const double e = relativeDifference(values, one.computed.at(monitor));
+      const double e = historyRelativeDifference(values, one.computed.at(monitor));
       out << name << " " << tag << " '" << monitor << "': np " << np << " against np 1, max relative difference " << e << "\n";
       TEST_COMPARE(e, <, tolerance);
     }
     for (const auto& [column, values] : r.reactions) {
       // (Contact forces only: an implicit reaction is a converged residual, as close as Newton's tolerance.)
       if (column.find("_contact_") == std::string::npos) continue;
-      const double e = relativeDifference(values, one.reactions.at(column));
+      const double e = historyRelativeDifference(values, one.reactions.at(column));
       out << name << " " << tag << " '" << column << "': max relative difference " << e << "\n";
       TEST_COMPARE(e, <, tolerance);
     }
@@ -104,7 +96,7 @@ void checkIndependence(const std::string& name, ParameterList deck, const std::v
       std::vector<double> total(r.kinetic.size()), totalOne(one.kinetic.size());
       for (size_t i = 0; i < total.size(); ++i) total[i] = r.kinetic[i] + r.strain[i];
       for (size_t i = 0; i < totalOne.size(); ++i) totalOne[i] = one.kinetic[i] + one.strain[i];
-      const double e = relativeDifference(total, totalOne);
+      const double e = historyRelativeDifference(total, totalOne);
       out << name << " " << tag << " total energy: max relative difference " << e << "\n";
       TEST_COMPARE(e, <, tolerance);
     }
