@@ -63,10 +63,16 @@ int main(int argc, char** argv) {
       usage(std::cout);
       return 0;
     } else if (a == "--x" || a == "--terms") {
-      if (i + 1 >= argc) { std::cerr << "impm_beam_exact: error: " << a << " needs a value\n"; return 2; }
+      if (i + 1 >= argc) {
+        std::cerr << "impm_beam_exact: error: " << a << " needs a value\n";
+        return 2;
+      }
       const std::string v = argv[++i];
       if (a == "--x") {
-        if (!parseDouble(v, xArg)) { std::cerr << "impm_beam_exact: error: --x needs a number, got '" << v << "'\n"; return 2; }
+        if (!parseDouble(v, xArg)) {
+          std::cerr << "impm_beam_exact: error: --x needs a number, got '" << v << "'\n";
+          return 2;
+        }
         haveX = true;
       } else if (!parseInt(v, termsArg) || termsArg <= 0) {
         std::cerr << "impm_beam_exact: error: --terms needs a positive integer, got '" << v << "'\n";
@@ -83,7 +89,10 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (deckPath.empty()) { usage(std::cerr); return 2; }
+  if (deckPath.empty()) {
+    usage(std::cerr);
+    return 2;
+  }
 
   try {
     auto deck = impm::readDeck(deckPath);
@@ -108,7 +117,8 @@ int main(int argc, char** argv) {
     const double depth = body.get<double>("Y Max") - body.get<double>("Y Min");
     const double dt = integ.get<double>("Time Step");
     const int steps = integ.get<int>("Number of Steps");
-    if (!(E > 0) || !(rho > 0) || !(thickness > 0)) throw impm::DeckError("Material: Young Modulus, Density and Thickness must be positive");
+    if (!(E > 0) || !(rho > 0) || !(thickness > 0))
+      throw impm::DeckError("Material: Young Modulus, Density and Thickness must be positive");
     if (!(nu > -1 && nu < 0.5)) throw impm::DeckError("'Material/Poisson Ratio' must be in (-1, 0.5)");
     if (!(L > 0) || !(depth > 0)) throw impm::DeckError("Body: X Max > X Min and Y Max > Y Min needed");
     if (!(dt > 0)) throw impm::DeckError("'Integrator/Time Step' must be positive");
@@ -125,7 +135,10 @@ int main(int argc, char** argv) {
     const double a = load.get<double>("X") - xMin;
     if (!(a > 0 && a < L)) throw impm::DeckError("load '" + loadName + "': X must lie strictly between the supports");
     const double x = (haveX ? xArg : load.get<double>("X")) - xMin;
-    if (!(x >= 0 && x <= L)) { std::cerr << "impm_beam_exact: error: --x must lie within the body\n"; return 2; }
+    if (!(x >= 0 && x <= L)) {
+      std::cerr << "impm_beam_exact: error: --x must lie within the body\n";
+      return 2;
+    }
     const int terms = termsArg > 0 ? termsArg : ex.get<int>("Series Terms");
     if (terms <= 0) throw impm::DeckError("'Exact Solution/Series Terms' must be positive");
 
@@ -144,11 +157,11 @@ int main(int argc, char** argv) {
     const auto wTimoE = timoE.deflectionHistory(x, dt, steps, terms);
 
     const double w1T = timoEp.omega(1, 0);
-    std::printf("# omega_1 (rad/s): eb_E %.6f, eb_Eprime %.6f, timo_Eprime %.6f, newmark (2/dt)atan(omega dt/2) "
-                "of eb_Eprime %.6f, of timo_Eprime %.6f; timo_E %.6f; %s, x = %g, dt = %g, %d terms\n",
-                ebE.omega1(), ebEp.omega1(), w1T, impm::newmarkFrequency(ebEp.omega1(), dt),
-                impm::newmarkFrequency(w1T, dt), timoE.omega(1, 0), planeStrain ? "plane strain" : "plane stress",
-                x + xMin, dt, terms);
+    std::printf(
+        "# omega_1 (rad/s): eb_E %.6f, eb_Eprime %.6f, timo_Eprime %.6f, newmark (2/dt)atan(omega dt/2) "
+        "of eb_Eprime %.6f, of timo_Eprime %.6f; timo_E %.6f; %s, x = %g, dt = %g, %d terms\n",
+        ebE.omega1(), ebEp.omega1(), w1T, impm::newmarkFrequency(ebEp.omega1(), dt), impm::newmarkFrequency(w1T, dt),
+        timoE.omega(1, 0), planeStrain ? "plane strain" : "plane stress", x + xMin, dt, terms);
     std::printf("t,eb_E,eb_Eprime,timo_Eprime,eb_Eprime_newmark,timo_Eprime_newmark,timo_E\n");
     for (int k = 0; k <= steps; ++k)
       std::printf("%.10g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e\n", k * dt, wEbE[k], wEbEp[k], wTimoEp[k], wEbEpN[k],

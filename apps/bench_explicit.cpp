@@ -65,11 +65,20 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
   using namespace impm;
   const long rss0 = residentKiB();
   StructuredGrid g;
-  g.nx = 1000; g.ny = 5; g.hx = 1e-3; g.hy = 1e-3;
+  g.nx = 1000;
+  g.ny = 5;
+  g.hx = 1e-3;
+  g.hy = 1e-3;
   RectangularBody body{0.0, 1.0, 0.0, 5e-3, 5, 5, 1e-3};
   if (Dim == 3) {  // 40 x 5 x 5 cells, 5 x 5 x 5 particles per cell: 125,000 particles too
-    g.nx = 40; g.dim = 3; g.nz = 5; g.hz = 1e-3;
-    body.xMax = 0.04; body.zMin = 0.0; body.zMax = 5e-3; body.particlesPerCellZ = 5;
+    g.nx = 40;
+    g.dim = 3;
+    g.nz = 5;
+    g.hz = 1e-3;
+    body.xMax = 0.04;
+    body.zMin = 0.0;
+    body.zMax = 5e-3;
+    body.particlesPerCellZ = 5;
   }
   GridDistribution dist(g, comm);
   const bool linear = model == MaterialModel::LinearElastic;
@@ -81,8 +90,9 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
     parameters.frictionAngle = 30.0;
     parameters.dilatancyAngle = 10.0;
   }
-  Materials mat(std::vector<MaterialParameters>{parameters},
-                Dim == 3 ? PlaneCondition::Solid : linear ? PlaneCondition::PlaneStress : PlaneCondition::PlaneStrain);
+  Materials mat(std::vector<MaterialParameters>{parameters}, Dim == 3 ? PlaneCondition::Solid
+                                                             : linear ? PlaneCondition::PlaneStress
+                                                                      : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
   if (mat.anyHistory()) ps.allocateHistory();
   // The contact case: the same particles as two bodies (the bar's halves), each its own grid
@@ -120,18 +130,19 @@ void runCase(int steps, int repeats, const Teuchos::RCP<const Teuchos::Comm<int>
   }
   std::sort(seconds.begin(), seconds.end());
   const auto rate = [&](double sec) { return double(ps.count) * steps / sec / 1e6; };
-  std::printf("%-5s %dD %-14s%s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s "
-              "(best of %d; median %.2f, worst %.2f)  view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
-              Shape::name, Dim, Materials::modelName(model).c_str(),
-              contact                                  ? " 2 fields"
-              : fbar                                   ? " F-bar"
-              : transfer == ParticleTransfer::Apic ? " APIC"
-              : transfer == ParticleTransfer::Tpic ? " TPIC"
-              : transfer == ParticleTransfer::Xpic ? " XPIC(5)"
-                                                   : "",
-              (int)ExecutionSpace::concurrency(), ps.count, steps,
-              seconds.front(), rate(seconds.front()), repeats, rate(seconds[seconds.size() / 2]), rate(seconds.back()),
-              ParticleSet::bytesPerParticle(Dim), 1024.0 * (rss1 - rss0) / ps.count);
+  std::printf(
+      "%-5s %dD %-14s%s threads=%d particles=%d steps=%d time=%.3f s  %.2f M particle-steps/s "
+      "(best of %d; median %.2f, worst %.2f)  view bytes/particle=%zu  RSS bytes/particle=%.0f\n",
+      Shape::name, Dim, Materials::modelName(model).c_str(),
+      contact                              ? " 2 fields"
+      : fbar                               ? " F-bar"
+      : transfer == ParticleTransfer::Apic ? " APIC"
+      : transfer == ParticleTransfer::Tpic ? " TPIC"
+      : transfer == ParticleTransfer::Xpic ? " XPIC(5)"
+                                           : "",
+      (int)ExecutionSpace::concurrency(), ps.count, steps, seconds.front(), rate(seconds.front()), repeats,
+      rate(seconds[seconds.size() / 2]), rate(seconds.back()), ParticleSet::bytesPerParticle(Dim),
+      1024.0 * (rss1 - rss0) / ps.count);
   if (impm::PhaseTimer::enabled())
     Teuchos::TimeMonitor::summarize(comm.ptr(), std::cout, false, true, false, Teuchos::Union, "impm:");
   std::fflush(stdout);
@@ -190,11 +201,14 @@ void printHostState(const char* when) {
 }
 
 void printUsage() {
-  std::printf("usage: impm_bench_explicit [--case mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|dp-2d|mc-2d|j2-3d|dp-3d|mc-3d|contact2d|apic-gimp2d|tpic-gimp2d|xpic-gimp2d|fbar-j2-2d|fbar-j2-3d] [--steps N] "
-              "[--repeat N] [--timers]\n"
-              "  runs each case at 1 and 2 OpenMP threads (one child process per thread count) and prints\n"
-              "  M particle-steps/s (best, median and worst of N timed repeats, default 3) and bytes per\n"
-              "  particle, then each case's 2-thread speed-up; --timers adds the time of each phase.\n");
+  std::printf(
+      "usage: impm_bench_explicit [--case "
+      "mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|dp-2d|mc-2d|j2-3d|dp-3d|mc-3d|contact2d|apic-gimp2d|tpic-gimp2d|"
+      "xpic-gimp2d|fbar-j2-2d|fbar-j2-3d] [--steps N] "
+      "[--repeat N] [--timers]\n"
+      "  runs each case at 1 and 2 OpenMP threads (one child process per thread count) and prints\n"
+      "  M particle-steps/s (best, median and worst of N timed repeats, default 3) and bytes per\n"
+      "  particle, then each case's 2-thread speed-up; --timers adds the time of each phase.\n");
 }
 
 }  // namespace
@@ -203,9 +217,9 @@ int main(int argc, char** argv) {
   bool child = false, timers = false;
   int steps = 200, repeats = 3;
   std::string only;
-  const char* cases[] = {"mpm2d", "gimp2d", "mpm3d",  "gimp3d",    "neohookean2d", "j2-2d",      "dp-2d",
-                         "mc-2d", "j2-3d",  "dp-3d",  "mc-3d",     "contact2d",    "apic-gimp2d", "tpic-gimp2d", "xpic-gimp2d",
-                         "fbar-j2-2d", "fbar-j2-3d"};
+  const char* cases[] = {"mpm2d",       "gimp2d",      "mpm3d",       "gimp3d",     "neohookean2d", "j2-2d",
+                         "dp-2d",       "mc-2d",       "j2-3d",       "dp-3d",      "mc-3d",        "contact2d",
+                         "apic-gimp2d", "tpic-gimp2d", "xpic-gimp2d", "fbar-j2-2d", "fbar-j2-3d"};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--child")) child = true;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
@@ -226,26 +240,31 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!only.empty() && std::find(std::begin(cases), std::end(cases), only) == std::end(cases)) {
-    std::fprintf(stderr, "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, mc-2d, j2-3d, dp-3d, mc-3d, contact2d, apic-gimp2d, tpic-gimp2d, xpic-gimp2d, fbar-j2-2d, fbar-j2-3d)\n",
-                 only.c_str());
+    std::fprintf(
+        stderr,
+        "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, mc-2d, "
+        "j2-3d, dp-3d, mc-3d, contact2d, apic-gimp2d, tpic-gimp2d, xpic-gimp2d, fbar-j2-2d, fbar-j2-3d)\n",
+        only.c_str());
     return 2;
   }
   if (!child) {
     // One process per thread count: Kokkos fixes its thread count at initialisation.
-    std::printf("impm explicit-step benchmark (USL, FLIP; 2D: bar of 1000 x 5 cells, 5 x 5 particles per cell; "
-                "3D: 40 x 5 x 5 cells, 5 x 5 x 5 per cell; 125,000 particles each)\n");
+    std::printf(
+        "impm explicit-step benchmark (USL, FLIP; 2D: bar of 1000 x 5 cells, 5 x 5 particles per cell; "
+        "3D: 40 x 5 x 5 cells, 5 x 5 x 5 per cell; 125,000 particles each)\n");
     std::fflush(stdout);
     printHostState("before");
     // The children run as MPI singletons; ess_singleton_isolated keeps Open MPI from starting an
     // orted daemon beside each of them (it polled the PCI configuration on the timed cores).
     int status = 0;
-    std::vector<std::string> order;                  // case labels, in the order they ran
-    std::map<std::string, double> bestRate[2];       // label -> best M particle-steps/s at 1, 2 threads
+    std::vector<std::string> order;             // case labels, in the order they ran
+    std::map<std::string, double> bestRate[2];  // label -> best M particle-steps/s at 1, 2 threads
     for (int threads : {1, 2}) {
-      const std::string cmd = "OMPI_MCA_ess_singleton_isolated=1 OMP_PROC_BIND=false OMP_NUM_THREADS=" +
-                              std::to_string(threads) + " '" + argv[0] + "' --child --steps " + std::to_string(steps) +
-                              " --repeat " + std::to_string(repeats) + (only.empty() ? "" : " --case " + only) +
-                              (timers ? " --timers" : "") + " --kokkos-threads=" + std::to_string(threads);
+      const std::string cmd =
+          "OMPI_MCA_ess_singleton_isolated=1 OMP_PROC_BIND=false OMP_NUM_THREADS=" + std::to_string(threads) + " '" +
+          argv[0] + "' --child --steps " + std::to_string(steps) + " --repeat " + std::to_string(repeats) +
+          (only.empty() ? "" : " --case " + only) + (timers ? " --timers" : "") +
+          " --kokkos-threads=" + std::to_string(threads);
       FILE* child = popen(cmd.c_str(), "r");
       if (!child) {
         std::fprintf(stderr, "impm_bench_explicit: could not start '%s'\n", cmd.c_str());
@@ -291,15 +310,20 @@ int main(int argc, char** argv) {
   if (wanted("contact2d"))  // gimp2d's particles as two bodies with multi-field contact
     runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, true);
   if (wanted("apic-gimp2d"))  // gimp2d with the affine transfers
-    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false, impm::ParticleTransfer::Apic);
+    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false,
+                                  impm::ParticleTransfer::Apic);
   if (wanted("tpic-gimp2d"))
-    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false, impm::ParticleTransfer::Tpic);
+    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false,
+                                  impm::ParticleTransfer::Tpic);
   if (wanted("xpic-gimp2d"))  // gimp2d with XPIC(5): four more passes over the particles
-    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false, impm::ParticleTransfer::Xpic);
+    runCase<impm::UniformGimp, 2>(steps, repeats, comm, impm::MaterialModel::LinearElastic, false,
+                                  impm::ParticleTransfer::Xpic);
   // j2-2d and j2-3d with F-bar (a cell pass that averages det F, and the modified F per particle).
   if (wanted("fbar-j2-2d"))
-    runCase<impm::LinearMpm, 2>(steps, repeats, comm, impm::MaterialModel::J2Plasticity, false, impm::ParticleTransfer::FlipPic, true);
+    runCase<impm::LinearMpm, 2>(steps, repeats, comm, impm::MaterialModel::J2Plasticity, false,
+                                impm::ParticleTransfer::FlipPic, true);
   if (wanted("fbar-j2-3d"))
-    runCase<impm::LinearMpm, 3>(steps, repeats, comm, impm::MaterialModel::J2Plasticity, false, impm::ParticleTransfer::FlipPic, true);
+    runCase<impm::LinearMpm, 3>(steps, repeats, comm, impm::MaterialModel::J2Plasticity, false,
+                                impm::ParticleTransfer::FlipPic, true);
   return 0;
 }

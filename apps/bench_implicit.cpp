@@ -41,8 +41,15 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) fullSteps = std::atoi(argv[i + 1]);
 
   struct Config {
-    const char* label; const char* jacobian; const char* prec; int fill; double linTol; int steps;
-    bool gimpOnly = false; const char* gimpStiffness = nullptr; int repeats = 1;
+    const char* label;
+    const char* jacobian;
+    const char* prec;
+    int fill;
+    double linTol;
+    int steps;
+    bool gimpOnly = false;
+    const char* gimpStiffness = nullptr;
+    int repeats = 1;
   };
   const Config configs[] = {
       {"JFNK + RILUK(4) [deck]", "Jacobian-Free", "RILUK", 4, 1e-8, fullSteps, false, nullptr, 3},
@@ -56,10 +63,11 @@ int main(int argc, char** argv) {
       {"assembled Newton, cons. K", "Assembled", "None", 0, 1e-8, fullSteps, true, "Consistent"},
   };
   if (comm->getRank() == 0)
-    std::printf("impm implicit benchmark: seed beam (40 x 4 cells, 16 ppc, dt = 1e-3), %d thread(s), %d rank(s)\n"
-                "%-8s %-26s %6s %8s %10s %9s %10s %12s\n",
-                (int)impm::ExecutionSpace::concurrency(), comm->getSize(), "method", "solver", "steps",
-                "Newton", "Krylov/N", "wall s", "ms/step", "1000 steps s");
+    std::printf(
+        "impm implicit benchmark: seed beam (40 x 4 cells, 16 ppc, dt = 1e-3), %d thread(s), %d rank(s)\n"
+        "%-8s %-26s %6s %8s %10s %9s %10s %12s\n",
+        (int)impm::ExecutionSpace::concurrency(), comm->getSize(), "method", "solver", "steps", "Newton", "Krylov/N",
+        "wall s", "ms/step", "1000 steps s");
   for (const char* method : {"mpm", "gimp"}) {
     for (const Config& c : configs) {
       if (c.gimpOnly && std::string(method) != "gimp") continue;
@@ -67,31 +75,34 @@ int main(int argc, char** argv) {
       impm::RunResult r;
       double newton = 0, krylov = 0;
       for (int rep = 0; rep < c.repeats; ++rep) {
-      auto deck = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/beam_implicit_" + method + "_plane_strain.yaml");
-      deck->sublist("Integrator").set("Number of Steps", std::max(1, c.steps));
-      auto& solver = deck->sublist("Implicit Solver");
-      solver.set("Jacobian", std::string(c.jacobian));
-      solver.set("Preconditioner", std::string(c.prec));
-      solver.set("Linear Tolerance", c.linTol);
-      solver.remove("Ifpack2", false);
-      if (std::string(c.prec) == "RILUK") solver.sublist("Ifpack2").set("fact: iluk level-of-fill", c.fill);
-      if (c.gimpStiffness) deck->sublist("Integrator").sublist("Implicit").set("GIMP Stiffness", std::string(c.gimpStiffness));
-      deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
-      impm::validateDeck(*deck);
-      impm::Simulation sim(*deck, comm, std::string("output/bench_implicit/") + method);
-      std::ostringstream log;
-      r = sim.run(log);
-      auto summary = Teuchos::getParametersFromYamlFile(std::string("output/bench_implicit/") + method + "/summary.yaml");
-      const auto& s = summary->sublist("Solver");
-      newton = s.get<double>("Newton Iterations Mean");
-      krylov = s.get<double>("Krylov Iterations Per Newton Mean");
-      walls.push_back(r.wallSeconds);
+        auto deck =
+            impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/beam_implicit_" + method + "_plane_strain.yaml");
+        deck->sublist("Integrator").set("Number of Steps", std::max(1, c.steps));
+        auto& solver = deck->sublist("Implicit Solver");
+        solver.set("Jacobian", std::string(c.jacobian));
+        solver.set("Preconditioner", std::string(c.prec));
+        solver.set("Linear Tolerance", c.linTol);
+        solver.remove("Ifpack2", false);
+        if (std::string(c.prec) == "RILUK") solver.sublist("Ifpack2").set("fact: iluk level-of-fill", c.fill);
+        if (c.gimpStiffness)
+          deck->sublist("Integrator").sublist("Implicit").set("GIMP Stiffness", std::string(c.gimpStiffness));
+        deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
+        impm::validateDeck(*deck);
+        impm::Simulation sim(*deck, comm, std::string("output/bench_implicit/") + method);
+        std::ostringstream log;
+        r = sim.run(log);
+        auto summary =
+            Teuchos::getParametersFromYamlFile(std::string("output/bench_implicit/") + method + "/summary.yaml");
+        const auto& s = summary->sublist("Solver");
+        newton = s.get<double>("Newton Iterations Mean");
+        krylov = s.get<double>("Krylov Iterations Per Newton Mean");
+        walls.push_back(r.wallSeconds);
       }
       std::sort(walls.begin(), walls.end());
       const double wall = walls[walls.size() / 2];  // median
       if (comm->getRank() == 0)
-        std::printf("%-8s %-26s %6d %8.2f %10.2f %9.2f %10.2f %12.2f%s\n", method, c.label, r.steps, newton, krylov, wall,
-                    1e3 * wall / r.steps, wall / r.steps * 1000, c.repeats > 1 ? "  (median of 3)" : "");
+        std::printf("%-8s %-26s %6d %8.2f %10.2f %9.2f %10.2f %12.2f%s\n", method, c.label, r.steps, newton, krylov,
+                    wall, 1e3 * wall / r.steps, wall / r.steps * 1000, c.repeats > 1 ? "  (median of 3)" : "");
       std::fflush(stdout);
     }
   }

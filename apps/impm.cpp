@@ -83,22 +83,36 @@ int main(int argc, char** argv) {
     if (a == "--timers") {
       impm::PhaseTimer::enabled() = true;
     } else if (a == "--output") {
-      if (i + 1 >= argc) { if (root) std::cerr << "impm: error: --output needs a directory\n"; return 2; }
+      if (i + 1 >= argc) {
+        if (root) std::cerr << "impm: error: --output needs a directory\n";
+        return 2;
+      }
       outputDir = argv[++i];
     } else if (a == "--restart") {
-      if (i + 1 >= argc) { if (root) std::cerr << "impm: error: --restart needs a checkpoint directory\n"; return 2; }
+      if (i + 1 >= argc) {
+        if (root) std::cerr << "impm: error: --restart needs a checkpoint directory\n";
+        return 2;
+      }
       restartDir = argv[++i];
     } else if (a.rfind("--", 0) == 0) {
-      if (root) { std::cerr << "impm: error: unknown option '" << a << "'\n"; usage(std::cerr); }
+      if (root) {
+        std::cerr << "impm: error: unknown option '" << a << "'\n";
+        usage(std::cerr);
+      }
       return 2;
     } else if (deckPath.empty()) {
       deckPath = a;
     } else {
-      if (root) { std::cerr << "impm: error: more than one deck given ('" << deckPath << "', '" << a << "')\n"; }
+      if (root) {
+        std::cerr << "impm: error: more than one deck given ('" << deckPath << "', '" << a << "')\n";
+      }
       return 2;
     }
   }
-  if (deckPath.empty()) { if (root) usage(std::cerr); return 2; }
+  if (deckPath.empty()) {
+    if (root) usage(std::cerr);
+    return 2;
+  }
 
   try {
     auto deck = impm::readDeck(deckPath);
@@ -115,15 +129,20 @@ int main(int argc, char** argv) {
     if (root && out.get<bool>("Plot") && (sim.hasExact() || out.get<bool>("Energy And Momentum"))) {
       const std::string script = plotScript();
       const std::string title = deck->sublist("Problem").get<std::string>("Name");
-      const std::string cmd = "/usr/bin/python3 '" + script + "' '" + sim.outputDirectory() + "' --title '" + title + "'";
-      if (std::system(cmd.c_str()) != 0) std::cout << "  warning: the plot could not be written (" << cmd << ")\n";
-      else std::cout << "  plot: " << sim.outputDirectory() << "/plot.png\n";
+      const std::string cmd =
+          "/usr/bin/python3 '" + script + "' '" + sim.outputDirectory() + "' --title '" + title + "'";
+      if (std::system(cmd.c_str()) != 0)
+        std::cout << "  warning: the plot could not be written (" << cmd << ")\n";
+      else
+        std::cout << "  plot: " << sim.outputDirectory() << "/plot.png\n";
     }
   } catch (const impm::DeckError& e) {
     // (A refused checkpoint names --restart itself: solvers/Checkpoint.hpp.)
     const std::string what = e.what();
-    if (root && what.rfind("--restart ", 0) == 0) std::cerr << "impm: error: " << what << "\n";
-    else if (root) std::cerr << "impm: error in deck '" << deckPath << "': " << what << "\n";
+    if (root && what.rfind("--restart ", 0) == 0)
+      std::cerr << "impm: error: " << what << "\n";
+    else if (root)
+      std::cerr << "impm: error in deck '" << deckPath << "': " << what << "\n";
     return 2;
   } catch (const std::exception& e) {
     if (root) std::cerr << "impm: error: " << e.what() << "\n";

@@ -18,7 +18,8 @@ struct CpdiDomainReport {
 template <class ExecSpace, int Dim>
 CpdiDomainReport checkCpdiDomains(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps) {
   const FixedParticleViews<Dim> pv(ps);
-  auto x = pv.x; auto hs = pv.halfSize;
+  auto x = pv.x;
+  auto hs = pv.halfSize;
   const auto F = DomainDeformation<Cpdi, Dim>::of(ps);
   auto id = ps.id;
   auto outside = KOKKOS_LAMBDA(int p, bool& capped, bool& beyond) {

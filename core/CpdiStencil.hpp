@@ -135,7 +135,10 @@ struct ParticleStencil<Cpdi, Dim> {
       }
       first[d] = lo;
       count[d] = hi - lo + 2;
-      if (count[d] > N) { count[d] = N; capped = true; }
+      if (count[d] > N) {
+        count[d] = N;
+        capped = true;
+      }
     }
     for (int n = 0; n < boxNodes; ++n) {
       w[n] = 0.0;

@@ -17,8 +17,8 @@ namespace impm::schema {
 inline Teuchos::RCP<Teuchos::AnyNumberParameterEntryValidator> numberValidator() {
   Teuchos::AnyNumberParameterEntryValidator::AcceptedTypes accept(false);
   accept.allowInt(true).allowDouble(true).allowString(false);
-  return Teuchos::rcp(new Teuchos::AnyNumberParameterEntryValidator(
-      Teuchos::AnyNumberParameterEntryValidator::PREFER_DOUBLE, accept));
+  return Teuchos::rcp(
+      new Teuchos::AnyNumberParameterEntryValidator(Teuchos::AnyNumberParameterEntryValidator::PREFER_DOUBLE, accept));
 }
 
 inline void number(Teuchos::ParameterList& pl, const std::string& key, double def, const std::string& doc) {

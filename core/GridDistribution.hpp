@@ -30,7 +30,8 @@ class GridDistribution {
   int cellBegin(int d) const { return cellLo_[d]; }
   int cellEnd(int d) const { return cellHi_[d]; }
   bool ownsCell(int ci, int cj, int ck = 0) const {
-    return ci >= cellLo_[0] && ci < cellHi_[0] && cj >= cellLo_[1] && cj < cellHi_[1] && ck >= cellLo_[2] && ck < cellHi_[2];
+    return ci >= cellLo_[0] && ci < cellHi_[0] && cj >= cellLo_[1] && cj < cellHi_[1] && ck >= cellLo_[2] &&
+           ck < cellHi_[2];
   }
   // Whether this rank owns the cell holding a point (coordinates x[0..dim)).
   bool ownsPoint(const double* x) const;

@@ -13,9 +13,9 @@ namespace impm {
 
 struct ParticleCellPairs {
   int count = 0;
-  Kokkos::View<int*, DeviceType> particle;                               // particle of each pair
-  Kokkos::View<int* [2], Kokkos::LayoutRight, DeviceType> cell;          // cell (i, j)
-  Kokkos::View<double* [4], Kokkos::LayoutRight, DeviceType> box;        // xlo, xhi, ylo, yhi
+  Kokkos::View<int*, DeviceType> particle;                         // particle of each pair
+  Kokkos::View<int* [2], Kokkos::LayoutRight, DeviceType> cell;    // cell (i, j)
+  Kokkos::View<double* [4], Kokkos::LayoutRight, DeviceType> box;  // xlo, xhi, ylo, yhi
 };
 
 namespace detail {
@@ -34,7 +34,8 @@ KOKKOS_INLINE_FUNCTION void cellSpan(double lo, double hi, double origin, double
 
 template <class ExecSpace>
 ParticleCellPairs buildParticleCellPairs(const StructuredGrid& g, const ParticleSet& ps, bool pointParticles) {
-  auto x = ps.x; auto hs = ps.halfSize;
+  auto x = ps.x;
+  auto hs = ps.halfSize;
   using detail::cellSpan;
   using detail::maxOf;
   using detail::minOf;
@@ -61,7 +62,9 @@ ParticleCellPairs buildParticleCellPairs(const StructuredGrid& g, const Particle
   pairs.particle = Kokkos::View<int*, DeviceType>("pair_particle", total);
   pairs.cell = decltype(pairs.cell)("pair_cell", total);
   pairs.box = decltype(pairs.box)("pair_box", total);
-  auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
+  auto P = pairs.particle;
+  auto C = pairs.cell;
+  auto B = pairs.box;
   Kokkos::parallel_for(
       "pair_fill", Kokkos::RangePolicy<ExecSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         const double lx = pointParticles ? 0.0 : hs(p, 0), ly = pointParticles ? 0.0 : hs(p, 1);

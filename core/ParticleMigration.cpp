@@ -93,8 +93,9 @@ Departures sortByDestination(const ParticleSet& ps, const GridDistribution& dist
   int anyTooFar = 0;
   Teuchos::reduceAll(*dist.comm(), Teuchos::REDUCE_MAX, tooFar, Teuchos::outArg(anyTooFar));
   if (anyTooFar > 0)
-    throw std::runtime_error("particles moved beyond the neighbouring MPI ranks' cells in one step (use fewer ranks, "
-                             "a smaller time step or a smaller 'Decomposition/Migration Slack Cells')");
+    throw std::runtime_error(
+        "particles moved beyond the neighbouring MPI ranks' cells in one step (use fewer ranks, "
+        "a smaller time step or a smaller 'Decomposition/Migration Slack Cells')");
   return out;
 }
 
@@ -112,10 +113,12 @@ std::vector<ParticleSet::Packed> exchangeRows(const ParticleSet& ps, const std::
     return buf;
   };
   using Request = Teuchos::RCP<Teuchos::CommRequest<int>>;
-  auto exchange = [&](std::vector<Teuchos::ArrayRCP<double>>& out, std::vector<Teuchos::ArrayRCP<double>>& in, int tag) {
+  auto exchange = [&](std::vector<Teuchos::ArrayRCP<double>>& out, std::vector<Teuchos::ArrayRCP<double>>& in,
+                      int tag) {
     std::vector<Request> requests;
     for (int s = 0; s < nn; ++s) requests.push_back(Teuchos::ireceive<int, double>(in[s], neighbours[s], tag, comm));
-    for (int s = 0; s < nn; ++s) requests.push_back(Teuchos::isend<int, double>(out[s].getConst(), neighbours[s], tag, comm));
+    for (int s = 0; s < nn; ++s)
+      requests.push_back(Teuchos::isend<int, double>(out[s].getConst(), neighbours[s], tag, comm));
     if (!requests.empty()) Teuchos::waitAll(comm, Teuchos::arrayViewFromVector(requests));
   };
   std::vector<Teuchos::ArrayRCP<double>> countsOut(nn), countsIn(nn), rowsOut(nn), rowsIn(nn);
@@ -217,7 +220,7 @@ long long sendParticlesToOwners(ParticleSet& ps, const GridDistribution& dist) {
 }
 
 std::array<std::vector<double>, 3> particleHistograms(const ParticleSet& ps, const StructuredGrid& g,
-                                                     const Teuchos::Comm<int>& comm) {
+                                                      const Teuchos::Comm<int>& comm) {
   const int nd = g.dim;
   int n[3] = {g.nx, g.ny, nd == 3 ? g.nz : 1};
   auto xh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);

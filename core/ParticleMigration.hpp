@@ -31,6 +31,6 @@ long long sendParticlesToOwners(ParticleSet& particles, const GridDistribution& 
 // The particle count per cell index along each direction, summed over all ranks (the load
 // balancer's histograms): counts[d][i] = particles whose cell index along d is i. Collective.
 std::array<std::vector<double>, 3> particleHistograms(const ParticleSet& particles, const StructuredGrid& grid,
-                                                     const Teuchos::Comm<int>& comm);
+                                                      const Teuchos::Comm<int>& comm);
 
 }  // namespace impm

@@ -25,8 +25,12 @@ struct StressLayout {
     return i == j ? (i == 2 ? 3 : i) : (i + j == 1 ? 2 : (i + j == 3 ? 4 : 5));
   }
   // The (i, j) pair of Voigt component v.
-  KOKKOS_INLINE_FUNCTION static constexpr int first(int v) { return v == 0 ? 0 : v == 1 ? 1 : v == 2 ? 0 : v == 3 ? 2 : v == 4 ? 1 : 0; }
-  KOKKOS_INLINE_FUNCTION static constexpr int second(int v) { return v == 0 ? 0 : v == 1 ? 1 : v == 2 ? 1 : v == 3 ? 2 : 2; }
+  KOKKOS_INLINE_FUNCTION static constexpr int first(int v) {
+    return v == 0 ? 0 : v == 1 ? 1 : v == 2 ? 0 : v == 3 ? 2 : v == 4 ? 1 : 0;
+  }
+  KOKKOS_INLINE_FUNCTION static constexpr int second(int v) {
+    return v == 0 ? 0 : v == 1 ? 1 : v == 2 ? 1 : v == 3 ? 2 : 2;
+  }
 };
 
 inline int stressComponents(int dim) { return dim == 2 ? 4 : 6; }
@@ -42,17 +46,17 @@ struct ParticleSet {
 
   int count = 0;
   int dim = 2;
-  Vec x;           // current position
-  Vec x0;          // reference position (displacement u = x - x0)
-  Vec v;           // velocity
-  Vec a;           // acceleration (implicit Newmark and output)
-  Vec halfSize;    // half size of the particle domain (GIMP); uGIMP keeps it fixed
+  Vec x;         // current position
+  Vec x0;        // reference position (displacement u = x - x0)
+  Vec v;         // velocity
+  Vec a;         // acceleration (implicit Newmark and output)
+  Vec halfSize;  // half size of the particle domain (GIMP); uGIMP keeps it fixed
   Scal mass;
-  Scal volume0;    // reference volume
-  Scal volume;     // current volume, volume0 * det F
-  Stress stress;   // Cauchy stress (StressLayout)
-  Mat F;           // deformation gradient
-  Mat gradient;    // scratch: gradient of a grid field at the particle (velocity or displacement)
+  Scal volume0;   // reference volume
+  Scal volume;    // current volume, volume0 * det F
+  Stress stress;  // Cauchy stress (StressLayout)
+  Mat F;          // deformation gradient
+  Mat gradient;   // scratch: gradient of a grid field at the particle (velocity or displacement)
   // Displacement of particles that do not move (the FE reference's Gauss points); empty
   // otherwise, where the displacement is x - x0.
   Vec u;
@@ -79,9 +83,12 @@ struct ParticleSet {
     historyAllocated = true;
     history = Hist("history", count, kHistoryCount);
     auto h = history;
-    Kokkos::parallel_for("init_history", Kokkos::RangePolicy<ExecutionSpace>(0, count), KOKKOS_LAMBDA(int p) {
-      h(p, 0) = 1; h(p, 1) = 1; h(p, 3) = 1;  // b_e = I in the stored layout (xx, yy, xy, zz, yz, xz)
-    });
+    Kokkos::parallel_for(
+        "init_history", Kokkos::RangePolicy<ExecutionSpace>(0, count), KOKKOS_LAMBDA(int p) {
+          h(p, 0) = 1;
+          h(p, 1) = 1;
+          h(p, 3) = 1;  // b_e = I in the stored layout (xx, yy, xy, zz, yz, xz)
+        });
   }
   bool hasAffine() const { return affineAllocated; }
   // Allocates the affine velocity matrices, zero.
@@ -93,17 +100,27 @@ struct ParticleSet {
 
   ParticleSet() = default;
   explicit ParticleSet(int n, int dimension = 2) : count(n), dim(dimension) {
-    x = Vec("x", n, dim); x0 = Vec("x0", n, dim); v = Vec("v", n, dim); a = Vec("a", n, dim);
+    x = Vec("x", n, dim);
+    x0 = Vec("x0", n, dim);
+    v = Vec("v", n, dim);
+    a = Vec("a", n, dim);
     halfSize = Vec("halfSize", n, dim);
-    mass = Scal("mass", n); volume0 = Scal("volume0", n); volume = Scal("volume", n);
-    stress = Stress("stress", n, stressCount()); F = Mat("F", n, dim, dim); gradient = Mat("gradient", n, dim, dim);
-    body = Ids("body", n); material = Ids("material", n); id = GlobalIds("id", n);
+    mass = Scal("mass", n);
+    volume0 = Scal("volume0", n);
+    volume = Scal("volume", n);
+    stress = Stress("stress", n, stressCount());
+    F = Mat("F", n, dim, dim);
+    gradient = Mat("gradient", n, dim, dim);
+    body = Ids("body", n);
+    material = Ids("material", n);
+    id = GlobalIds("id", n);
     auto Fv = F;
     const int d = dim;
-    Kokkos::parallel_for("init_F", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int p) {
-      for (int i = 0; i < d; ++i)
-        for (int j = 0; j < d; ++j) Fv(p, i, j) = i == j ? 1.0 : 0.0;
-    });
+    Kokkos::parallel_for(
+        "init_F", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int p) {
+          for (int i = 0; i < d; ++i)
+            for (int j = 0; j < d; ++j) Fv(p, i, j) = i == j ? 1.0 : 0.0;
+        });
   }
 
   // A vector view of this set's shape (fixed particles' u).
@@ -113,8 +130,8 @@ struct ParticleSet {
   // (ids fit a double exactly below 2^53). The scratch `gradient` is not carried; the fixed
   // particles' `u` is (FE reference), the history and the affine matrix are, when present.
   int packedWidth() const {
-    return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0) + (hasHistory() ? kHistoryCount : 0) +
-           (hasAffine() ? dim * dim : 0);
+    return 5 * dim + 3 + stressCount() + dim * dim + 3 + (fixedPositions() ? dim : 0) +
+           (hasHistory() ? kHistoryCount : 0) + (hasAffine() ? dim * dim : 0);
   }
   using Packed = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;
   // The column of a packed row that holds the position's component d.
@@ -130,14 +147,21 @@ struct ParticleSet {
           const int p = indices(k);
           int c = 0;
           for (int d = 0; d < nd; ++d) {
-            buffer(k, c++) = ps.x(p, d); buffer(k, c++) = ps.x0(p, d); buffer(k, c++) = ps.v(p, d);
-            buffer(k, c++) = ps.a(p, d); buffer(k, c++) = ps.halfSize(p, d);
+            buffer(k, c++) = ps.x(p, d);
+            buffer(k, c++) = ps.x0(p, d);
+            buffer(k, c++) = ps.v(p, d);
+            buffer(k, c++) = ps.a(p, d);
+            buffer(k, c++) = ps.halfSize(p, d);
           }
-          buffer(k, c++) = ps.mass(p); buffer(k, c++) = ps.volume0(p); buffer(k, c++) = ps.volume(p);
+          buffer(k, c++) = ps.mass(p);
+          buffer(k, c++) = ps.volume0(p);
+          buffer(k, c++) = ps.volume(p);
           for (int i = 0; i < ns; ++i) buffer(k, c++) = ps.stress(p, i);
           for (int i = 0; i < nd; ++i)
             for (int j = 0; j < nd; ++j) buffer(k, c++) = ps.F(p, i, j);
-          buffer(k, c++) = ps.body(p); buffer(k, c++) = ps.material(p); buffer(k, c++) = (double)ps.id(p);
+          buffer(k, c++) = ps.body(p);
+          buffer(k, c++) = ps.material(p);
+          buffer(k, c++) = (double)ps.id(p);
           if (withU)
             for (int d = 0; d < nd; ++d) buffer(k, c++) = ps.u(p, d);
           if (withHistory)
@@ -160,14 +184,21 @@ struct ParticleSet {
           const int p = first + k;
           int c = 0;
           for (int d = 0; d < nd; ++d) {
-            ps.x(p, d) = buffer(k, c++); ps.x0(p, d) = buffer(k, c++); ps.v(p, d) = buffer(k, c++);
-            ps.a(p, d) = buffer(k, c++); ps.halfSize(p, d) = buffer(k, c++);
+            ps.x(p, d) = buffer(k, c++);
+            ps.x0(p, d) = buffer(k, c++);
+            ps.v(p, d) = buffer(k, c++);
+            ps.a(p, d) = buffer(k, c++);
+            ps.halfSize(p, d) = buffer(k, c++);
           }
-          ps.mass(p) = buffer(k, c++); ps.volume0(p) = buffer(k, c++); ps.volume(p) = buffer(k, c++);
+          ps.mass(p) = buffer(k, c++);
+          ps.volume0(p) = buffer(k, c++);
+          ps.volume(p) = buffer(k, c++);
           for (int i = 0; i < ns; ++i) ps.stress(p, i) = buffer(k, c++);
           for (int i = 0; i < nd; ++i)
             for (int j = 0; j < nd; ++j) ps.F(p, i, j) = buffer(k, c++);
-          ps.body(p) = (int)buffer(k, c++); ps.material(p) = (int)buffer(k, c++); ps.id(p) = (long long)buffer(k, c++);
+          ps.body(p) = (int)buffer(k, c++);
+          ps.material(p) = (int)buffer(k, c++);
+          ps.id(p) = (long long)buffer(k, c++);
           if (withU)
             for (int d = 0; d < nd; ++d) ps.u(p, d) = buffer(k, c++);
           if (withHistory)
@@ -180,10 +211,20 @@ struct ParticleSet {
 
   // Keeps the first min(n, count) particles and makes room for n.
   void resize(int n) {
-    Kokkos::resize(x, n, dim); Kokkos::resize(x0, n, dim); Kokkos::resize(v, n, dim); Kokkos::resize(a, n, dim);
-    Kokkos::resize(halfSize, n, dim); Kokkos::resize(mass, n); Kokkos::resize(volume0, n); Kokkos::resize(volume, n);
-    Kokkos::resize(stress, n, stressCount()); Kokkos::resize(F, n, dim, dim); Kokkos::resize(gradient, n, dim, dim);
-    Kokkos::resize(body, n); Kokkos::resize(material, n); Kokkos::resize(id, n);
+    Kokkos::resize(x, n, dim);
+    Kokkos::resize(x0, n, dim);
+    Kokkos::resize(v, n, dim);
+    Kokkos::resize(a, n, dim);
+    Kokkos::resize(halfSize, n, dim);
+    Kokkos::resize(mass, n);
+    Kokkos::resize(volume0, n);
+    Kokkos::resize(volume, n);
+    Kokkos::resize(stress, n, stressCount());
+    Kokkos::resize(F, n, dim, dim);
+    Kokkos::resize(gradient, n, dim, dim);
+    Kokkos::resize(body, n);
+    Kokkos::resize(material, n);
+    Kokkos::resize(id, n);
     if (fixedPositions()) Kokkos::resize(u, n, dim);
     if (hasHistory()) Kokkos::resize(history, n, kHistoryCount);
     if (hasAffine()) Kokkos::resize(affine, n, dim, dim);
@@ -204,7 +245,7 @@ struct FixedParticleViews {
   using Unmanaged = Kokkos::MemoryTraits<Kokkos::Unmanaged>;
   using Vec = Kokkos::View<double* [Dim], Kokkos::LayoutRight, DeviceType, Unmanaged>;
   using Mat = Kokkos::View<double* [Dim][Dim], Kokkos::LayoutRight, DeviceType, Unmanaged>;
-  using Stress = Kokkos::View<double* [StressLayout<Dim>::count], Kokkos::LayoutRight, DeviceType, Unmanaged>;
+  using Stress = Kokkos::View<double * [StressLayout<Dim>::count], Kokkos::LayoutRight, DeviceType, Unmanaged>;
   static Vec vec(const ParticleSet::Vec& v) { return Vec(v.data(), v.extent(0)); }
 
   Vec x, x0, v, a, halfSize;
@@ -215,11 +256,20 @@ struct FixedParticleViews {
   ParticleSet::Hist history;
 
   explicit FixedParticleViews(const ParticleSet& ps)
-      : x(vec(ps.x)), x0(vec(ps.x0)), v(vec(ps.v)), a(vec(ps.a)), halfSize(vec(ps.halfSize)),
-        F(ps.F.data(), ps.F.extent(0)), gradient(ps.gradient.data(), ps.gradient.extent(0)),
+      : x(vec(ps.x)),
+        x0(vec(ps.x0)),
+        v(vec(ps.v)),
+        a(vec(ps.a)),
+        halfSize(vec(ps.halfSize)),
+        F(ps.F.data(), ps.F.extent(0)),
+        gradient(ps.gradient.data(), ps.gradient.extent(0)),
         affine(ps.affine.data(), ps.affine.extent(0)),
-        stress(ps.stress.data(), ps.stress.extent(0)), mass(ps.mass), volume0(ps.volume0), volume(ps.volume),
-        material(ps.material), history(ps.history) {}
+        stress(ps.stress.data(), ps.stress.extent(0)),
+        mass(ps.mass),
+        volume0(ps.volume0),
+        volume(ps.volume),
+        material(ps.material),
+        history(ps.history) {}
 };
 
 // The heaviest particle's mass over all ranks (the reference for void grid nodes).

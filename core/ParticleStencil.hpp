@@ -26,26 +26,26 @@ struct ParticleStencil {
   static_assert(Dim == 2 || Dim == 3, "impm grids are 2D or 3D");
   static constexpr int N = Shape::max_nodes_1d;
   static constexpr int dim = Dim;
-  int first[Dim];  // first node index per direction
-  int count[Dim];  // nodes per direction
+  int first[Dim];               // first node index per direction
+  int count[Dim];               // nodes per direction
   double w[Dim][N], g[Dim][N];  // 1D weights and gradient weights per direction
 
   // Centre and half sizes of the particle domain (clipped to the grid, see build1d) from the
   // particle views: position(p, d), halfSize(p, d).
   template <class PositionView, class SizeView>
   KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
-                                         const SizeView& halfSize, int p)
+                                              const SizeView& halfSize, int p)
       : ParticleStencil(StencilGrid(grid), position, halfSize, NoDomainDeformation{}, p) {}
   template <class PositionView, class SizeView>
   KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
-                                         const SizeView& halfSize, NoDomainDeformation, int p)
+                                              const SizeView& halfSize, NoDomainDeformation, int p)
       : ParticleStencil(grid, position, halfSize, p) {}
   // The same with the inverse cell sizes computed once for the kernel (StencilGrid). Written out
   // per direction (not a loop over d) so that each direction's grid constants are plain members:
   // the 2D kernels kept their speed this way.
   template <class PositionView, class SizeView>
   KOKKOS_FORCEINLINE_FUNCTION ParticleStencil(const StencilGrid& grid, const PositionView& position,
-                                         const SizeView& halfSize, NoDomainDeformation, int p) {
+                                              const SizeView& halfSize, NoDomainDeformation, int p) {
     const double* inv = grid.inverseSpacing;
     build1d(position(p, 0), grid.x0, grid.hx, inv[0], halfSize(p, 0), grid.nx, first[0], count[0], w[0], g[0]);
     build1d(position(p, 1), grid.y0, grid.hy, inv[1], halfSize(p, 1), grid.ny, first[1], count[1], w[1], g[1]);
@@ -105,7 +105,8 @@ struct ParticleStencil {
       for (int a = 0; a < nodes(0); ++a)
         for (int b = 0; b < nodes(1); ++b)
           for (int c = 0; c < nodes(2); ++c) {
-            const double grad[3] = {g[0][a] * w[1][b] * w[2][c], w[0][a] * g[1][b] * w[2][c], w[0][a] * w[1][b] * g[2][c]};
+            const double grad[3] = {g[0][a] * w[1][b] * w[2][c], w[0][a] * g[1][b] * w[2][c],
+                                    w[0][a] * w[1][b] * g[2][c]};
             const int offset[3] = {a, b, c};
             f(offset, w[0][a] * w[1][b] * w[2][c], grad);
           }
@@ -120,13 +121,13 @@ struct ParticleStencil {
   KOKKOS_FORCEINLINE_FUNCTION double gradY(int a, int b) const { return w[0][a] * g[1][b]; }
 
  private:
-  KOKKOS_FORCEINLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells,
-                                             int& first, int& count, double* w, double* gr) {
+  KOKKOS_FORCEINLINE_FUNCTION static void build1d(double x, double origin, double h, double l, int ncells, int& first,
+                                                  int& count, double* w, double* gr) {
     build1d(x, origin, h, 1.0 / h, l, ncells, first, count, w, gr);
   }
   // invh = 1.0 / h.
   KOKKOS_FORCEINLINE_FUNCTION static void build1d(double x, double origin, double h, double invh, double l, int ncells,
-                                             int& first, int& count, double* w, double* gr) {
+                                                  int& first, int& count, double* w, double* gr) {
     if constexpr (HasInteriorStencil<Shape>::value) {
       if (Shape::interiorStencil((x - origin) * invh, invh, ncells, first, w, gr)) {
         count = 2;
@@ -143,7 +144,11 @@ struct ParticleStencil {
       if (x - l < origin || x + l > end) {  // rare: only domains across the edge change
         const double lo = x - l > origin ? x - l : origin;
         const double hi = x + l < end ? x + l : end;
-        if (!(hi > lo)) { first = 0; count = 0; return; }  // wholly outside (the run loop stops)
+        if (!(hi > lo)) {
+          first = 0;
+          count = 0;
+          return;
+        }  // wholly outside (the run loop stops)
         x = 0.5 * (lo + hi);
         l = 0.5 * (hi - lo);
       }
@@ -156,7 +161,10 @@ struct ParticleStencil {
       if (first > ncells - count + 1) first = ncells - count + 1;
     } else {
       // Inside the grid a node whose function the domain only touches has zero weight: drop it.
-      if (first < 0) { count += first; first = 0; }
+      if (first < 0) {
+        count += first;
+        first = 0;
+      }
       if (first + count > ncells + 1) count = ncells + 1 - first;
     }
     for (int a = 0; a < count; ++a) {

@@ -29,8 +29,8 @@ RankGrid::RankGrid(const StructuredGrid& grid, int nranks, std::array<int, 3> re
     throw DeckError("'Decomposition/Ranks Z' = " + std::to_string(requested[2]) + " on a 2D grid; use 0 or 1");
   for (int d = 0; d < nd; ++d)
     if (requested[d] < 0)
-      throw DeckError("'Decomposition/Ranks " + std::string(kAxis[d]) + "' must be 0 (chosen by impm) or positive, got " +
-                      std::to_string(requested[d]));
+      throw DeckError("'Decomposition/Ranks " + std::string(kAxis[d]) +
+                      "' must be 0 (chosen by impm) or positive, got " + std::to_string(requested[d]));
   const bool anyRequested = requested[0] > 0 || requested[1] > 0 || requested[2] > 0;
   if (anyRequested && requested[0] > 0 && requested[1] > 0 && (nd == 2 || requested[2] > 0)) {
     const long long product = (long long)requested[0] * requested[1] * (nd == 3 ? requested[2] : 1);
@@ -56,7 +56,8 @@ RankGrid::RankGrid(const StructuredGrid& grid, int nranks, std::array<int, 3> re
         if (d < nd ? p[d] > 1 && (long long)p[d] * minCells_ > cells_[d] : p[d] != 1) ok = false;
       }
       if (!ok) continue;
-      const long long interface = (px - 1) * nodes[1] * nodes[2] + (py - 1) * nodes[0] * nodes[2] + (pz - 1) * nodes[0] * nodes[1];
+      const long long interface =
+          (px - 1) * nodes[1] * nodes[2] + (py - 1) * nodes[0] * nodes[2] + (pz - 1) * nodes[0] * nodes[1];
       if (interface <= best) {  // ties go to the later: more cuts across x, then y
         best = interface;
         dims_ = {px, py, pz};
@@ -68,16 +69,21 @@ RankGrid::RankGrid(const StructuredGrid& grid, int nranks, std::array<int, 3> re
   if (best == std::numeric_limits<long long>::max() && anyRequested && nranks % requestedProduct != 0) {
     std::string asked;
     for (int d = 0; d < nd; ++d)
-      if (requested[d] > 0) asked += std::string(asked.empty() ? "" : ", ") + "'Decomposition/Ranks " + kAxis[d] + "' = " + std::to_string(requested[d]);
-    throw DeckError(asked + " cannot split " + std::to_string(nranks) + " MPI rank(s): the rank counts per direction "
+      if (requested[d] > 0)
+        asked += std::string(asked.empty() ? "" : ", ") + "'Decomposition/Ranks " + kAxis[d] +
+                 "' = " + std::to_string(requested[d]);
+    throw DeckError(asked + " cannot split " + std::to_string(nranks) +
+                    " MPI rank(s): the rank counts per direction "
                     "must multiply to the number of ranks");
   }
   if (best == std::numeric_limits<long long>::max()) {
-    std::string cells = "'Grid/Cells X' = " + std::to_string(cells_[0]) + ", 'Grid/Cells Y' = " + std::to_string(cells_[1]);
+    std::string cells =
+        "'Grid/Cells X' = " + std::to_string(cells_[0]) + ", 'Grid/Cells Y' = " + std::to_string(cells_[1]);
     if (nd == 3) cells += ", 'Grid/Cells Z' = " + std::to_string(cells_[2]);
     throw DeckError(std::to_string(nranks) + " MPI ranks leave a rank without cells on this grid (" + cells +
-                    (anyRequested ? ", with the requested 'Decomposition/Ranks X/Y/Z'" : "") + "; each rank needs at least " +
-                    std::to_string(minCells_) + " cell(s) per direction); use fewer ranks or more cells");
+                    (anyRequested ? ", with the requested 'Decomposition/Ranks X/Y/Z'" : "") +
+                    "; each rank needs at least " + std::to_string(minCells_) +
+                    " cell(s) per direction); use fewer ranks or more cells");
   }
   for (int d = 0; d < 3; ++d) cuts_[d] = evenCuts(cells_[d], dims_[d]);
 }
@@ -124,17 +130,18 @@ void RankGrid::setCuts(int d, const std::vector<int>& cuts) {
   for (size_t r = 0; ok && r + 1 < cuts.size(); ++r) ok = cuts[r + 1] - cuts[r] >= (dims_[d] > 1 ? minCells_ : 1);
   if (!ok)
     throw std::invalid_argument("cuts along " + std::string(kAxis[d]) + " must be " + std::to_string(dims_[d] + 1) +
-                                " increasing cell indices from 0 to " + std::to_string(cells_[d]) + ", parts at least " +
-                                std::to_string(minCells_) + " cells wide");
+                                " increasing cell indices from 0 to " + std::to_string(cells_[d]) +
+                                ", parts at least " + std::to_string(minCells_) + " cells wide");
   cuts_[d] = cuts;
 }
 
-std::vector<int> balancedCuts(const std::vector<double>& weights, int parts, int minCells, const std::vector<int>& current) {
+std::vector<int> balancedCuts(const std::vector<double>& weights, int parts, int minCells,
+                              const std::vector<int>& current) {
   const int n = (int)weights.size();
   minCells = parts > 1 ? std::max(1, minCells) : 1;
   if (parts < 1 || (long long)parts * minCells > n)
-    throw std::invalid_argument("balancedCuts: " + std::to_string(parts) + " parts of at least " + std::to_string(minCells) +
-                                " cells in " + std::to_string(n) + " cells");
+    throw std::invalid_argument("balancedCuts: " + std::to_string(parts) + " parts of at least " +
+                                std::to_string(minCells) + " cells in " + std::to_string(n) + " cells");
   std::vector<double> prefix(n + 1, 0.0);
   for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + weights[i];
   auto sum = [&](int a, int b) { return prefix[b] - prefix[a]; };
@@ -192,7 +199,8 @@ std::vector<int> balancedCuts(const std::vector<double>& weights, int parts, int
   cutsWithin(hi, &cuts);
   const double optimum = largestPart(cuts);
   bool currentValid = (int)current.size() == parts + 1 && current.front() == 0 && current.back() == n;
-  for (size_t r = 0; currentValid && r + 1 < current.size(); ++r) currentValid = current[r + 1] - current[r] >= minCells;
+  for (size_t r = 0; currentValid && r + 1 < current.size(); ++r)
+    currentValid = current[r + 1] - current[r] >= minCells;
   if (currentValid && largestPart(current) <= optimum * (1 + 1e-12)) return current;
   return cuts;
 }

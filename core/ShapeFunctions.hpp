@@ -51,8 +51,10 @@ struct LinearMpm {
     const double f = xi - i;
     if (i < 0 || i >= ncells || !(f > 0.0)) return false;
     first = i;
-    w[0] = 1.0 - f; w[1] = f;
-    gr[0] = -invh; gr[1] = invh;
+    w[0] = 1.0 - f;
+    w[1] = f;
+    gr[0] = -invh;
+    gr[1] = invh;
     return true;
   }
 };
@@ -61,7 +63,8 @@ struct LinearMpm {
 template <class Shape, class = void>
 struct HasInteriorStencil : std::false_type {};
 template <class Shape>
-struct HasInteriorStencil<Shape, decltype(void(Shape::interiorStencil(0.0, 0.0, 0, std::declval<int&>(), nullptr, nullptr)))>
+struct HasInteriorStencil<Shape,
+                          decltype(void(Shape::interiorStencil(0.0, 0.0, 0, std::declval<int&>(), nullptr, nullptr)))>
     : std::true_type {};
 
 // Uniform GIMP (Bardenhagen & Kober 2004): the particle is a box of half size l (l <= h/2)
@@ -207,7 +210,6 @@ struct QuadraticBSpline {
     count = 3;
   }
 };
-
 
 // Cubic B-spline MPM (Steffen, Kirby & Berzins 2008, IJNME 76; de Vaucorbeil, Nguyen, Sinaie & Wu
 // 2020, Adv. Appl. Mech. 53, their "modified cubic B-splines"): the particle is a point and node

@@ -20,8 +20,10 @@ template <int Dim>
 KOKKOS_INLINE_FUNCTION void inverse(const double (&A)[Dim][Dim], double det, double (&inv)[Dim][Dim]) {
   const double r = 1.0 / det;
   if constexpr (Dim == 2) {
-    inv[0][0] = A[1][1] * r; inv[0][1] = -A[0][1] * r;
-    inv[1][0] = -A[1][0] * r; inv[1][1] = A[0][0] * r;
+    inv[0][0] = A[1][1] * r;
+    inv[0][1] = -A[0][1] * r;
+    inv[1][0] = -A[1][0] * r;
+    inv[1][1] = A[0][0] * r;
   } else {
     inv[0][0] = (A[1][1] * A[2][2] - A[1][2] * A[2][1]) * r;
     inv[0][1] = (A[0][2] * A[2][1] - A[0][1] * A[2][2]) * r;

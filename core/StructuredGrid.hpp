@@ -77,8 +77,12 @@ struct LocalNodeIndexer {
   // The node box [lo, hi) per direction.
   static LocalNodeIndexer box(int lo0, int hi0, int lo1, int hi1, int lo2 = 0, int hi2 = 1) {
     LocalNodeIndexer ix;
-    ix.lo[0] = lo0; ix.lo[1] = lo1; ix.lo[2] = lo2;
-    ix.n[0] = hi0 - lo0; ix.n[1] = hi1 - lo1; ix.n[2] = hi2 - lo2;
+    ix.lo[0] = lo0;
+    ix.lo[1] = lo1;
+    ix.lo[2] = lo2;
+    ix.n[0] = hi0 - lo0;
+    ix.n[1] = hi1 - lo1;
+    ix.n[2] = hi2 - lo2;
     return ix;
   }
   // Every node of the grid.

@@ -10,8 +10,7 @@ const double kPi = std::acos(-1.0);
 
 // Adds c * (modal history) to hist, for a mode of frequency W driven by g sin(w t): exact or
 // Newmark in time.
-void addModalHistory(std::vector<double>& hist, double c, double W, double g, double w, double dt,
-                     bool newmark) {
+void addModalHistory(std::vector<double>& hist, double c, double W, double g, double w, double dt, bool newmark) {
   const int steps = int(hist.size()) - 1;
   if (newmark) {
     const std::vector<double> q = newmarkModalHistory(W, g, w, dt, steps);
@@ -35,8 +34,7 @@ double harmonicModalResponse(double W, double g, double w, double t) {
 
 // Average acceleration (trapezoidal rule): u+ = u + dt v + dt^2/4 (a + a+), v+ = v + dt/2 (a + a+),
 // a+ = g(t+) - W^2 u+, solved for u+.
-std::vector<double> newmarkModalHistory(double W, double g, double w, double dt, int steps, double q0,
-                                        double v0) {
+std::vector<double> newmarkModalHistory(double W, double g, double w, double dt, int steps, double q0, double v0) {
   std::vector<double> q(steps + 1);
   double u = q0, v = v0, acc = -W * W * q0;  // g sin(0) = 0
   q[0] = u;
@@ -76,8 +74,7 @@ static std::vector<double> ebHistory(const BeamHarmonicExact& b, double x, doubl
 std::vector<double> deflectionHistory(const BeamHarmonicExact& b, double x, double dt, int steps, int terms) {
   return ebHistory(b, x, dt, steps, terms, false);
 }
-std::vector<double> deflectionHistoryNewmark(const BeamHarmonicExact& b, double x, double dt, int steps,
-                                             int terms) {
+std::vector<double> deflectionHistoryNewmark(const BeamHarmonicExact& b, double x, double dt, int steps, int terms) {
   return ebHistory(b, x, dt, steps, terms, true);
 }
 
@@ -115,8 +112,8 @@ double TimoshenkoBeamHarmonic::deflection(double x, double t, int terms) const {
   return sum;
 }
 
-static std::vector<double> timoHistory(const TimoshenkoBeamHarmonic& b, double x, double dt, int steps,
-                                       int terms, bool newmark) {
+static std::vector<double> timoHistory(const TimoshenkoBeamHarmonic& b, double x, double dt, int steps, int terms,
+                                       bool newmark) {
   checkHistoryArgs(dt, steps);
   std::vector<double> hist(steps + 1, 0.0);
   for (int n = 1; n <= terms; ++n) {
@@ -133,8 +130,7 @@ static std::vector<double> timoHistory(const TimoshenkoBeamHarmonic& b, double x
 std::vector<double> TimoshenkoBeamHarmonic::deflectionHistory(double x, double dt, int steps, int terms) const {
   return timoHistory(*this, x, dt, steps, terms, false);
 }
-std::vector<double> TimoshenkoBeamHarmonic::deflectionHistoryNewmark(double x, double dt, int steps,
-                                                                     int terms) const {
+std::vector<double> TimoshenkoBeamHarmonic::deflectionHistoryNewmark(double x, double dt, int steps, int terms) const {
   return timoHistory(*this, x, dt, steps, terms, true);
 }
 

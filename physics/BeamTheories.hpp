@@ -40,8 +40,8 @@ double harmonicModalResponse(double W, double g, double w, double t);
 
 // Newmark average acceleration with step dt, from q(0) = q0, q'(0) = v0, a(0) = g sin(0) - W^2 q0
 // (from the equation), load sampled at the step times. Returns q at t = 0, dt, ..., steps*dt.
-std::vector<double> newmarkModalHistory(double W, double g, double w, double dt, int steps,
-                                        double q0 = 0.0, double v0 = 0.0);
+std::vector<double> newmarkModalHistory(double W, double g, double w, double dt, int steps, double q0 = 0.0,
+                                        double v0 = 0.0);
 
 // Frequency at which the average-acceleration rule advances a free mode of frequency W:
 // (2/dt) atan(W dt / 2) = W (1 - (W dt)^2 / 12 + ...), i.e. period elongation (W dt)^2 / 12.
@@ -51,8 +51,7 @@ double newmarkFrequency(double W, double dt);
 // BeamHarmonicExact (physics/ExactSolutions.hpp) keeps its interface; these add histories.
 
 // w(x, k dt), k = 0..steps, of the exact modal series (same as BeamHarmonicExact::deflection).
-std::vector<double> deflectionHistory(const BeamHarmonicExact& b, double x, double dt, int steps,
-                                      int terms = 200);
+std::vector<double> deflectionHistory(const BeamHarmonicExact& b, double x, double dt, int steps, int terms = 200);
 // The same series with each modal coordinate advanced by Newmark average acceleration.
 std::vector<double> deflectionHistoryNewmark(const BeamHarmonicExact& b, double x, double dt, int steps,
                                              int terms = 200);
@@ -73,13 +72,13 @@ std::vector<double> deflectionHistoryNewmark(const BeamHarmonicExact& b, double 
 // phi_w (2/L) sin(k a) F0 sin(forceOmega t), solved exactly from rest (harmonicModalResponse), and
 // W_n = sum over both branches of phi_w eta.
 struct TimoshenkoBeamHarmonic {
-  double L, a;   // span, load position (from the left support)
-  double E, G;   // bending modulus (E or E/(1-nu^2), caller decides) and shear modulus
+  double L, a;  // span, load position (from the left support)
+  double E, G;  // bending modulus (E or E/(1-nu^2), caller decides) and shear modulus
   // Shear coefficient: 5/6 for a rectangle; Cowper (1966) gives 10(1+nu)/(12+11nu) (0.850 at
   // nu = 0.3).
   double kappa = 5.0 / 6.0;
-  double A, I;   // cross-section area and second moment
-  double rho;    // density (rho A per length, rho I rotary inertia)
+  double A, I;        // cross-section area and second moment
+  double rho;         // density (rho A per length, rho I rotary inertia)
   double F0;          // force amplitude (N)
   double forceOmega;  // its angular frequency (rad/s); not "omega", which names the natural frequencies
 

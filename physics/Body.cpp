@@ -10,7 +10,8 @@ namespace impm {
 namespace {
 // Gauss points of the elements of a rectangle (3D: box) on grid lines: one cell (Q4, Hex8) or
 // 2 x 2 (x 2) cells (Q9, Hex27).
-std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const StructuredGrid& g, bool q9, double thickness) {
+std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const StructuredGrid& g, bool q9,
+                                       double thickness) {
   const int cellI0 = (int)std::lround((body.xMin - g.x0) / g.hx), cellI1 = (int)std::lround((body.xMax - g.x0) / g.hx);
   const int cellJ0 = (int)std::lround((body.yMin - g.y0) / g.hy), cellJ1 = (int)std::lround((body.yMax - g.y0) / g.hy);
   const bool solid = g.dim == 3;
@@ -30,7 +31,8 @@ std::vector<ParticlePoint> gaussPoints(const RectangularBody& body, const Struct
           for (size_t b = 0; b < xi.size(); ++b)
             for (size_t c = 0; c < nzq; ++c) {
               const double weight = solid ? w[a] * w[b] * w[c] * ex * ey * ez : w[a] * w[b] * ex * ey * thickness;
-              points.push_back({cx + xi[a] * ex, cy + xi[b] * ey, solid ? cz + xi[c] * ez : 0.0, 0.0, 0.0, 0.0, weight});
+              points.push_back(
+                  {cx + xi[a] * ex, cy + xi[b] * ey, solid ? cz + xi[c] * ez : 0.0, 0.0, 0.0, 0.0, weight});
             }
       }
   return points;
@@ -64,10 +66,15 @@ std::vector<ParticlePoint> fillBox(const RectangularBody& body, const Structured
           for (int b = 0; b < py; ++b)
             for (int c = 0; c < pz; ++c) {
               ParticlePoint p;
-              p.x = g.nodeX(i) + ox[a] * dx; p.y = g.nodeY(j) + oy[b] * dy; p.z = g.nodeZ(k) + oz[c] * dz;
-              if (p.x < body.xMin || p.x > body.xMax || p.y < body.yMin || p.y > body.yMax || p.z < body.zMin || p.z > body.zMax)
+              p.x = g.nodeX(i) + ox[a] * dx;
+              p.y = g.nodeY(j) + oy[b] * dy;
+              p.z = g.nodeZ(k) + oz[c] * dz;
+              if (p.x < body.xMin || p.x > body.xMax || p.y < body.yMin || p.y > body.yMax || p.z < body.zMin ||
+                  p.z > body.zMax)
                 continue;
-              p.lx = 0.5 * dx; p.ly = 0.5 * dy; p.lz = 0.5 * dz;
+              p.lx = 0.5 * dx;
+              p.ly = 0.5 * dy;
+              p.lz = 0.5 * dz;
               p.volume = dx * dy * dz;
               points.push_back(p);
             }
@@ -76,9 +83,15 @@ std::vector<ParticlePoint> fillBox(const RectangularBody& body, const Structured
 
 // omega x r as the skew matrix of omega: C r = omega x r.
 void rotationMatrix(const std::array<double, 3>& omega, double (&C)[3][3]) {
-  C[0][0] = 0.0;       C[0][1] = -omega[2]; C[0][2] = omega[1];
-  C[1][0] = omega[2];  C[1][1] = 0.0;       C[1][2] = -omega[0];
-  C[2][0] = -omega[1]; C[2][1] = omega[0];  C[2][2] = 0.0;
+  C[0][0] = 0.0;
+  C[0][1] = -omega[2];
+  C[0][2] = omega[1];
+  C[1][0] = omega[2];
+  C[1][1] = 0.0;
+  C[1][2] = -omega[0];
+  C[2][0] = -omega[1];
+  C[2][1] = omega[0];
+  C[2][2] = 0.0;
 }
 
 struct TaggedPoint {
@@ -103,7 +116,8 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
       } else if (placement != Placement::Lattice) {
         pts = gaussPoints(body.rect, g, placement == Placement::GaussQ9, thickness);
       } else if (g.dim == 3) {
-        if (!body.rectangle) throw std::invalid_argument("a 3D grid fills Rectangle (box) bodies and Particles Files only");
+        if (!body.rectangle)
+          throw std::invalid_argument("a 3D grid fills Rectangle (box) bodies and Particles Files only");
         pts = fillBox(body.rect, g);
       } else {
         // Rectangles on grid lines need no volume scaling; other shapes get their exact area.
@@ -131,8 +145,7 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
         all.push_back({p, b});
         ++inside;
       }
-    if (inside == 0)
-      throw std::invalid_argument("'Bodies/" + body.name + "' has no particle inside the grid");
+    if (inside == 0) throw std::invalid_argument("'Bodies/" + body.name + "' has no particle inside the grid");
     if (inside != (int)pts.size())
       throw std::invalid_argument("'Bodies/" + body.name + "/File': " + std::to_string(pts.size() - inside) +
                                   " particle(s) lie outside the grid");

@@ -1,7 +1,7 @@
 // Bodies: named pieces of material, each a shape filled with particles (a lattice of
 // Particles Per Cell points in each cell the shape covers, at sub-box centres or Gauss pairs,
-// see LatticePoints; or the FE reference's Gauss points), or the particles of a file. Every particle carries its body id, its material id and
-// a global id that does not depend on the MPI decomposition (the order of the whole fill).
+// see LatticePoints; or the FE reference's Gauss points), or the particles of a file. Every particle carries its body
+// id, its material id and a global id that does not depend on the MPI decomposition (the order of the whole fill).
 #pragma once
 
 #include <array>
@@ -43,11 +43,11 @@ struct RectangularBody {
 
 struct BodySpec {
   std::string name;
-  std::shared_ptr<const BodyShape> shape;  // null for a Particles File body
-  bool rectangle = false;                  // the shape is `rect` (faces, FE placement)
-  RectangularBody rect;                    // extents and particles per cell (all shapes use its ppc)
-  std::string particlesFile;               // Particles File bodies
-  int material = 0;                        // index into the material table
+  std::shared_ptr<const BodyShape> shape;              // null for a Particles File body
+  bool rectangle = false;                              // the shape is `rect` (faces, FE placement)
+  RectangularBody rect;                                // extents and particles per cell (all shapes use its ppc)
+  std::string particlesFile;                           // Particles File bodies
+  int material = 0;                                    // index into the material table
   double velocityX = 0, velocityY = 0, velocityZ = 0;  // initial velocity
   // Initial rigid rotation: the particles start with velocity + omega x (x - rotationCenter).
   std::array<double, 3> angularVelocity{};  // omega (x, y, z); 2D: z only

@@ -81,7 +81,8 @@ class Ellipse : public BodyShape {
       : cx_(cx), cy_(cy), a_(a), b_(b), ai_(ai), bi_(bi) {
     if (!finite(cx) || !finite(cy)) throw std::invalid_argument("ellipse centre must be finite, got " + point(cx, cy));
     if (!(a > 0) || !(b > 0) || !finite(a) || !finite(b))
-      throw std::invalid_argument("ellipse semi-axes must be positive and finite, got a = " + num(a) + ", b = " + num(b));
+      throw std::invalid_argument("ellipse semi-axes must be positive and finite, got a = " + num(a) +
+                                  ", b = " + num(b));
     // A hole needs both inner semi-axes, inside the outer ones (a ring of positive width).
     const bool hole = ai != 0.0 || bi != 0.0;
     if (hole && !(ai > 0 && bi > 0 && ai < a && bi < b))
@@ -137,8 +138,8 @@ class Polygon : public BodyShape {
     if (n < 3) throw std::invalid_argument("polygon needs at least 3 vertices, got " + std::to_string(n));
     for (size_t i = 0; i < n; ++i)
       if (!finite(v_[i][0]) || !finite(v_[i][1]))
-        throw std::invalid_argument("polygon vertex " + std::to_string(i + 1) + " is not finite: " +
-                                    point(v_[i][0], v_[i][1]));
+        throw std::invalid_argument("polygon vertex " + std::to_string(i + 1) +
+                                    " is not finite: " + point(v_[i][0], v_[i][1]));
     for (size_t i = 0; i < n; ++i) {
       const size_t j = (i + 1) % n;
       if (v_[i] == v_[j])
@@ -316,7 +317,8 @@ std::vector<ParticlePoint> fillShape(const BodyShape& shape, const GridBox& g, i
 
 std::vector<ParticlePoint> readParticlesFile(const std::string& path, int dim, double thickness) {
   const std::string where = "particles file '" + path + "'";
-  if (dim != 2 && dim != 3) throw std::invalid_argument(where + ": dimension must be 2 or 3, got " + std::to_string(dim));
+  if (dim != 2 && dim != 3)
+    throw std::invalid_argument(where + ": dimension must be 2 or 3, got " + std::to_string(dim));
   if (dim == 2 && (!(thickness > 0) || !finite(thickness)))
     throw std::invalid_argument(where + ": thickness must be positive, got " + num(thickness));
   std::ifstream in(path);
@@ -364,7 +366,8 @@ std::vector<ParticlePoint> readParticlesFile(const std::string& path, int dim, d
 }
 
 void writeParticlesFile(const std::string& path, const std::vector<ParticlePoint>& points, int dim) {
-  if (dim != 2 && dim != 3) throw std::invalid_argument("particles file dimension must be 2 or 3, got " + std::to_string(dim));
+  if (dim != 2 && dim != 3)
+    throw std::invalid_argument("particles file dimension must be 2 or 3, got " + std::to_string(dim));
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("particles file '" + path + "': cannot be opened for writing");
   std::fputs(dim == 2 ? "x,y,volume\n" : "x,y,z,volume\n", f);

@@ -25,8 +25,8 @@ std::vector<NodeIndex> faceNodes(const StructuredGrid& g, const RectangularBody&
   return nodes;
 }
 
-std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax, double zMin,
-                                double zMax) {
+std::vector<NodeIndex> boxNodes(const StructuredGrid& g, double xMin, double xMax, double yMin, double yMax,
+                                double zMin, double zMax) {
   const double lo[3] = {xMin, yMin, zMin}, hi[3] = {xMax, yMax, zMax};
   int first[3] = {0, 0, 0}, last[3] = {0, 0, 0};
   for (int d = 0; d < g.dim; ++d) {

@@ -16,12 +16,12 @@ namespace impm {
 // components are fixed.
 struct ConstraintSpec {
   std::string name;
-  std::string where;    // "Face", "Node" or "Box"
-  std::string face;     // x-, x+, y-, y+ (3D: also z-, z+) (Face)
-  RectangularBody body; // the body whose face it is (Face)
-  double x = 0, y = 0, z = 0;  // the node (Node)
+  std::string where;                                                  // "Face", "Node" or "Box"
+  std::string face;                                                   // x-, x+, y-, y+ (3D: also z-, z+) (Face)
+  RectangularBody body;                                               // the body whose face it is (Face)
+  double x = 0, y = 0, z = 0;                                         // the node (Node)
   double xMin = 0, xMax = 0, yMin = 0, yMax = 0, zMin = 0, zMax = 0;  // the box, edges included (Box)
-  bool fixX = false, fixY = false, fixZ = false;  // the components it prescribes
+  bool fixX = false, fixY = false, fixZ = false;                      // the components it prescribes
   bool fixes(int d) const { return d == 0 ? fixX : d == 1 ? fixY : fixZ; }
   // Fixed: the prescribed components stay at rest. Velocity: v_d(t) = value[d] f(t).
   // Displacement: u_d(t) = value[d] f(t) from the start of the run.
@@ -39,12 +39,22 @@ struct ConstraintSpec {
   static ConstraintSpec onFace(const std::string& name, const RectangularBody& body, const std::string& face, bool fixX,
                                bool fixY) {
     ConstraintSpec s;
-    s.name = name; s.where = "Face"; s.body = body; s.face = face; s.fixX = fixX; s.fixY = fixY;
+    s.name = name;
+    s.where = "Face";
+    s.body = body;
+    s.face = face;
+    s.fixX = fixX;
+    s.fixY = fixY;
     return s;
   }
   static ConstraintSpec atNode(const std::string& name, double x, double y, bool fixX, bool fixY) {
     ConstraintSpec s;
-    s.name = name; s.where = "Node"; s.x = x; s.y = y; s.fixX = fixX; s.fixY = fixY;
+    s.name = name;
+    s.where = "Node";
+    s.x = x;
+    s.y = y;
+    s.fixX = fixX;
+    s.fixY = fixY;
     return s;
   }
 };
@@ -60,6 +70,5 @@ std::vector<NodeIndex> faceNodes(const StructuredGrid& g, const RectangularBody&
 
 // The nodes a constraint names: its face, its box, or its node.
 std::vector<NodeIndex> constraintNodes(const ConstraintSpec& s, const StructuredGrid& g);
-
 
 }  // namespace impm

@@ -15,7 +15,8 @@ double phi1Of(double p) { return std::asin(std::min(1.0, 1.0 / (p * std::sqrt(2.
 }  // namespace
 
 CantileverElastica::CantileverElastica(double k) : k_(k) {
-  if (!(k >= 0) || !std::isfinite(k)) throw std::invalid_argument("elastica: the load parameter k must be >= 0 and finite");
+  if (!(k >= 0) || !std::isfinite(k))
+    throw std::invalid_argument("elastica: the load parameter k must be >= 0 and finite");
   if (k == 0) return;
   // Bisection on the tip slope theta0 in (0, pi/2): the length condition K(p) - F(phi1, p) rises
   // with theta0 (p = sqrt((1 + sin theta0) / 2)). Bisection on theta0 rather than p keeps the
@@ -50,8 +51,8 @@ CantileverElastica::Point CantileverElastica::at(double sOverL) const {
   const double phi = s >= 1.0 ? kHalfPi : 0.5 * (lo + hi);
   const double x = 2 * p_ * (std::cos(phi1_) - std::cos(phi)) / sk;
   const double dF = std::ellint_1(p_, phi) - F1_, dE = std::ellint_2(p_, phi) - E1_;
-  pt.u = s - x;                 // the shortening of the horizontal projection
-  pt.w = (dF - 2 * dE) / sk;    // downward
+  pt.u = s - x;               // the shortening of the horizontal projection
+  pt.w = (dF - 2 * dE) / sk;  // downward
   const double sinTheta = std::clamp(2 * p_ * p_ * std::sin(phi) * std::sin(phi) - 1, -1.0, 1.0);
   pt.theta = std::asin(sinTheta);  // theta in [0, theta0] within (-pi/2, pi/2)
   return pt;

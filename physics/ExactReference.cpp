@@ -29,8 +29,8 @@ const BodySpec& exactBody(const ParameterList& e, const ExactContext& c) {
     if (b.name == name) body = &b;
   if (!body) throw DeckError("'Exact Solution/Body' = '" + name + "' names no entry of Bodies");
   if (!body->rectangle)
-    throw DeckError("'Exact Solution/Type' = " + e.get<std::string>("Type") + " describes a rectangular body: 'Bodies/" +
-                    body->name + "' is not a Rectangle");
+    throw DeckError("'Exact Solution/Type' = " + e.get<std::string>("Type") +
+                    " describes a rectangular body: 'Bodies/" + body->name + "' is not a Rectangle");
   return *body;
 }
 
@@ -77,11 +77,13 @@ class StandingWave : public ExactReference {
   StandingWave(const ParameterList& e, const ExactContext& c) {
     // The exact solution holds for this initial state, both ends fixed in x and no loads.
     if (c.initialCondition != "Standing Wave")
-      throw DeckError("'Exact Solution/Type' = Bar Standing Wave needs 'Initial Conditions/Type' = Standing Wave, got " +
-                      c.initialCondition);
+      throw DeckError(
+          "'Exact Solution/Type' = Bar Standing Wave needs 'Initial Conditions/Type' = Standing Wave, got " +
+          c.initialCondition);
     if (!c.loads.empty())
-      throw DeckError("'Exact Solution/Type' = Bar Standing Wave is free vibration: the deck must have no Loads (found '" +
-                      c.loads.front().name + "')");
+      throw DeckError(
+          "'Exact Solution/Type' = Bar Standing Wave is free vibration: the deck must have no Loads (found '" +
+          c.loads.front().name + "')");
     for (const std::string face : {"x-", "x+"}) {
       bool fixed = false;
       for (const auto& s : c.constraints) fixed = fixed || (s.where == "Face" && s.face == face && s.fixX);
@@ -126,10 +128,11 @@ class SimplySupportedBeam : public ExactReference {
     timoshenko_ = e.get<std::string>("Beam Theory") == "Timoshenko";
     if (timoshenko_) {
       const double kappa = e.get<double>("Shear Coefficient");
-      if (!(kappa > 0)) throw DeckError("'Exact Solution/Shear Coefficient' must be positive, got " + formatNumber(kappa));
+      if (!(kappa > 0))
+        throw DeckError("'Exact Solution/Shear Coefficient' must be positive, got " + formatNumber(kappa));
       const double G = mat.E / (2.0 * (1.0 + mat.nu));
-      timo_ = TimoshenkoBeamHarmonic{r.length(), load.x - r.xMin, modulus_, G, kappa, A, I, mat.density, load.forceY,
-                                     load.time.omega};
+      timo_ = TimoshenkoBeamHarmonic{r.length(),  load.x - r.xMin, modulus_,       G, kappa, A, I,
+                                     mat.density, load.forceY,     load.time.omega};
     }
     newmark_ = e.get<std::string>("Time Discretisation") == "Newmark";
   }
@@ -186,14 +189,15 @@ class LayeredBar : public ExactReference {
       const RectangularBody& r = bodies[k]->rect;
       const double tol = 1e-9 * (bodies.back()->rect.xMax - x0);
       if (k > 0 && std::abs(r.xMin - bodies[k - 1]->rect.xMax) > tol)
-        throw DeckError("'Exact Solution/Type' = Layered Bar Step Load needs the bodies to touch end to end along x: 'Bodies/" +
-                        bodies[k]->name + "' starts at X Min = " + formatNumber(r.xMin) + ", 'Bodies/" + bodies[k - 1]->name +
-                        "' ends at X Max = " + formatNumber(bodies[k - 1]->rect.xMax));
+        throw DeckError(
+            "'Exact Solution/Type' = Layered Bar Step Load needs the bodies to touch end to end along x: 'Bodies/" +
+            bodies[k]->name + "' starts at X Min = " + formatNumber(r.xMin) + ", 'Bodies/" + bodies[k - 1]->name +
+            "' ends at X Max = " + formatNumber(bodies[k - 1]->rect.xMax));
       if (std::abs(r.height() - height) > 1e-9 * height)
         throw DeckError("'Exact Solution/Type' = Layered Bar Step Load needs bodies of one height: 'Bodies/" +
                         bodies[k]->name + "' differs");
-      segments.push_back({r.xMin - x0, r.xMax - x0, modulusFor(e, c, bodies[k]->material),
-                          c.materials->density(bodies[k]->material)});
+      segments.push_back(
+          {r.xMin - x0, r.xMax - x0, modulusFor(e, c, bodies[k]->material), c.materials->density(bodies[k]->material)});
     }
     // The modulus reported is the first segment's; each segment uses its own.
     modulus_ = segments.front().E;
@@ -201,8 +205,10 @@ class LayeredBar : public ExactReference {
     const LoadSpec& load = exactLoad(e, c);
     const RectangularBody& last = bodies.back()->rect;
     if (load.type != "Face Traction" || load.face != "x+" || load.body.xMax != last.xMax)
-      throw DeckError("'Exact Solution/Load' = '" + load.name + "': Layered Bar Step Load needs a Face Traction on face x+ of "
-                      "the rightmost body ('Bodies/" + bodies.back()->name + "')");
+      throw DeckError("'Exact Solution/Load' = '" + load.name +
+                      "': Layered Bar Step Load needs a Face Traction on face x+ of "
+                      "the rightmost body ('Bodies/" +
+                      bodies.back()->name + "')");
     try {
       bar_ = std::make_unique<LayeredBarExact>(segments, height * c.width(last), load.forceX, c.dt * c.steps * 1.0001);
     } catch (const std::exception& ex) {
@@ -231,14 +237,20 @@ class SelfWeightColumn : public ExactReference {
     const BodySpec& b = exactBody(e, c);
     const LoadSpec& load = exactLoad(e, c);
     if (load.type != "Body Force" || !(load.accelerationY < 0) || load.accelerationX != 0 || load.accelerationZ != 0)
-      throw DeckError("'Exact Solution/Type' = Column Under Self-Weight needs 'Exact Solution/Load' to name a Body Force "
-                      "with Acceleration Y < 0 only (gravity); '" + load.name + "' is not");
+      throw DeckError(
+          "'Exact Solution/Type' = Column Under Self-Weight needs 'Exact Solution/Load' to name a Body Force "
+          "with Acceleration Y < 0 only (gravity); '" +
+          load.name + "' is not");
     if (c.dimension != 2 || c.materials->plane() != PlaneCondition::PlaneStrain)
-      throw DeckError("'Exact Solution/Type' = Column Under Self-Weight is the 2D plane-strain column (Grid/Plane Condition = Plane Strain)");
+      throw DeckError(
+          "'Exact Solution/Type' = Column Under Self-Weight is the 2D plane-strain column (Grid/Plane Condition = "
+          "Plane Strain)");
     const MaterialParameters& m = c.materials->parameters(b.material);
     if (m.model == MaterialModel::DruckerPrager || m.model == MaterialModel::MohrCoulomb)
-      throw DeckError("'Exact Solution/Type' = Column Under Self-Weight has closed forms for the Linear Elastic, "
-                      "Neo-Hookean and J2 Plasticity models; the body's material is " + Materials::modelName(m.model));
+      throw DeckError(
+          "'Exact Solution/Type' = Column Under Self-Weight has closed forms for the Linear Elastic, "
+          "Neo-Hookean and J2 Plasticity models; the body's material is " +
+          Materials::modelName(m.model));
     column_.height = b.rect.height();
     column_.density = m.density;
     column_.gravity = -load.accelerationY;
@@ -279,7 +291,8 @@ class SelfWeightColumn : public ExactReference {
 // every monitor quantity and the whole displacement field of its body.
 class AxisAlignedManufacturedReference : public ExactReference {
  public:
-  AxisAlignedManufacturedReference(const ParameterList& e, const ExactContext& c) : field_(axisAlignedManufactured(e, c)) {
+  AxisAlignedManufacturedReference(const ParameterList& e, const ExactContext& c)
+      : field_(axisAlignedManufactured(e, c)) {
     const BodySpec& b = exactBody(e, c);
     fieldBody_ = (int)(&b - c.bodies.data());
     modulus_ = c.materials->parameters(b.material).E;  // the time scale omega = pi sqrt(E / rho0) / L
@@ -334,18 +347,23 @@ class CantileverEndLoad : public ExactReference {
     double force = 0;
     for (const auto& s : c.loads) {
       if (s.type != "Particle Force" || s.forceX != 0 || s.forceY == 0 || std::abs(s.x - r.xMax) > 0.05 * r.length() ||
-          s.time.kind != named.time.kind || s.time.rampTime != named.time.rampTime || s.time.startTime != named.time.startTime)
-        throw DeckError("'Exact Solution/Type' = Cantilever End Load needs every load to be a Particle Force with Force Y "
-                        "only, at the free end (X near the body's X Max = " + formatNumber(r.xMax) +
-                        ") and with the time function of '" + named.name + "': 'Loads/" + s.name + "' is not");
+          s.time.kind != named.time.kind || s.time.rampTime != named.time.rampTime ||
+          s.time.startTime != named.time.startTime)
+        throw DeckError(
+            "'Exact Solution/Type' = Cantilever End Load needs every load to be a Particle Force with Force Y "
+            "only, at the free end (X near the body's X Max = " +
+            formatNumber(r.xMax) + ") and with the time function of '" + named.name + "': 'Loads/" + s.name +
+            "' is not");
       force += s.forceY;
     }
     bool clamped = false;
     for (const auto& s : c.constraints)
       clamped = clamped || (s.where == "Face" && s.face == "x-" && s.fixX && s.fixY && s.body.xMin == r.xMin);
     if (!clamped)
-      throw DeckError("'Exact Solution/Type' = Cantilever End Load needs the beam clamped at X Min: a constraint with "
-                      "Where = Face, Face = x-, Components = xy on 'Bodies/" + b.name + "'");
+      throw DeckError(
+          "'Exact Solution/Type' = Cantilever End Load needs the beam clamped at X Min: a constraint with "
+          "Where = Face, Face = x-, Components = xy on 'Bodies/" +
+          b.name + "'");
     modulus_ = modulusFor(e, c, b.material);
     const double I = c.width(r) * std::pow(r.height(), 3) / 12.0;
     length_ = r.length();
@@ -380,7 +398,8 @@ class CantileverEndLoad : public ExactReference {
 std::unique_ptr<ExactReference> makeExactReference(const ParameterList& e, const ExactContext& c) {
   const std::string type = e.get<std::string>("Type");
   if (e.get<int>("Series Terms") <= 0)
-    throw DeckError("'Exact Solution/Series Terms' must be positive, got " + std::to_string(e.get<int>("Series Terms")));
+    throw DeckError("'Exact Solution/Series Terms' must be positive, got " +
+                    std::to_string(e.get<int>("Series Terms")));
   if (type == "Bar Step Load") return std::make_unique<BarStep>(e, c);
   if (type == "Bar Standing Wave") return std::make_unique<StandingWave>(e, c);
   if (type == "Simply Supported Beam") return std::make_unique<SimplySupportedBeam>(e, c);
@@ -398,7 +417,8 @@ AxisAlignedManufactured axisAlignedManufactured(const ParameterList& e, const Ex
     throw DeckError(what + " describes a single body; the deck has " + std::to_string(c.bodies.size()));
   const MaterialParameters& m = c.materials->parameters(b.material);
   if (m.model != MaterialModel::NeoHookean)
-    throw DeckError(what + " is a neo-Hookean field: 'Bodies/" + b.name + "' must be made of a material with Model = Neo-Hookean");
+    throw DeckError(what + " is a neo-Hookean field: 'Bodies/" + b.name +
+                    "' must be made of a material with Model = Neo-Hookean");
   AxisAlignedManufactured f;
   f.dim = c.dimension;
   f.length = b.rect.length();
@@ -412,7 +432,8 @@ AxisAlignedManufactured axisAlignedManufactured(const ParameterList& e, const Ex
   f.amplitude = e.get<double>("Amplitude");
   const double largestStrain = 2 * AxisAlignedManufactured::kPi * std::abs(f.amplitude) / f.length;
   if (!(f.amplitude > 0) || !(largestStrain < 0.5))
-    throw DeckError("'Exact Solution/Amplitude' must be positive and below L / (4 pi) = " + formatNumber(f.length / (4 * AxisAlignedManufactured::kPi)) +
+    throw DeckError("'Exact Solution/Amplitude' must be positive and below L / (4 pi) = " +
+                    formatNumber(f.length / (4 * AxisAlignedManufactured::kPi)) +
                     " (stretches of 1 +/- 2 pi A / L within 50%), got " + formatNumber(f.amplitude));
   f.mu = m.E / (2 * (1 + m.nu));
   f.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));

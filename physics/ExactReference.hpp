@@ -26,7 +26,9 @@ class ExactReference {
   // position (x0, y0) and time t; NaN when this solution has no such quantity.
   virtual double value(const std::string& quantity, double x0, double y0, double t) const = 0;
   // The same at a reference position X (x0, y0[, z0]): solutions that depend on z override it.
-  virtual double valueAt(const std::string& quantity, const double* X, double t) const { return value(quantity, X[0], X[1], t); }
+  virtual double valueAt(const std::string& quantity, const double* X, double t) const {
+    return value(quantity, X[0], X[1], t);
+  }
   // The whole displacement field, for solutions that know it everywhere in their body: u(X, t)
   // into u[0..dim) and true, or false. History compares every particle with it.
   virtual bool displacementAt(const double* /*X*/, double /*t*/, int /*dim*/, double* /*u*/) const { return false; }
@@ -44,15 +46,15 @@ class ExactReference {
 
 // What the factory needs of the built model.
 struct ExactContext {
-  std::vector<BodySpec> bodies;      // in deck order
+  std::vector<BodySpec> bodies;  // in deck order
   const Materials* materials = nullptr;
-  double thickness = 1;              // 2D: out of plane
-  int dimension = 2;                 // 3D: a body's cross-section is its height x depth
+  double thickness = 1;  // 2D: out of plane
+  int dimension = 2;     // 3D: a body's cross-section is its height x depth
   // The out-of-plane width of a rectangular body: the thickness in 2D, its z extent in 3D.
   double width(const RectangularBody& r) const { return dimension == 3 ? r.depth() : thickness; }
   std::vector<LoadSpec> loads;
   std::vector<ConstraintSpec> constraints;
-  std::string initialCondition;      // Initial Conditions/Type
+  std::string initialCondition;  // Initial Conditions/Type
   double initialAmplitude = 0;
   int initialMode = 1;
   double dt = 0;
@@ -65,9 +67,11 @@ struct ExactContext {
 // Manufactured Solution): Amplitude, the square (cube) Rectangle body named by Body, made of a
 // Neo-Hookean material. Needs only the context's bodies, materials and dimension (the builder
 // calls it before the loads and initial conditions, which use it). Throws DeckError naming the key.
-AxisAlignedManufactured axisAlignedManufactured(const Teuchos::ParameterList& exactSection, const ExactContext& context);
+AxisAlignedManufactured axisAlignedManufactured(const Teuchos::ParameterList& exactSection,
+                                                const ExactContext& context);
 
 // Null for Type = None. Throws DeckError naming the key when the deck does not fit the solution.
-std::unique_ptr<ExactReference> makeExactReference(const Teuchos::ParameterList& exactSection, const ExactContext& context);
+std::unique_ptr<ExactReference> makeExactReference(const Teuchos::ParameterList& exactSection,
+                                                   const ExactContext& context);
 
 }  // namespace impm

@@ -32,9 +32,7 @@ static double barSeries(const BarStepExact& b, double x, double t, int terms, bo
 double BarStepExact::displacementSeries(double x, double t, int terms) const {
   return barSeries(*this, x, t, terms, false);
 }
-double BarStepExact::stressSeries(double x, double t, int terms) const {
-  return barSeries(*this, x, t, terms, true);
-}
+double BarStepExact::stressSeries(double x, double t, int terms) const { return barSeries(*this, x, t, terms, true); }
 
 // Each n is one more transit pair of the front; once the leading argument (2n+1)L - x exceeds
 // ct the front of that and every later n has not arrived yet, so the sum is finite.

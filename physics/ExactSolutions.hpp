@@ -6,7 +6,7 @@ namespace impm {
 
 // Problem 1: 1D rod fixed at x=0, step force F0 at x=L from t=0 (Meirovitch).
 struct BarStepExact {
-  double L, A, E, rho, F0;  // E is the modulus the comparison uses (E or E/(1-nu^2)); caller decides
+  double L, A, E, rho, F0;   // E is the modulus the comparison uses (E or E/(1-nu^2)); caller decides
   double waveSpeed() const;  // sqrt(E/rho)
   // Modal series of benchmarks.md; converges like 1/(2r-1)^2.
   double displacementSeries(double x, double t, int terms = 2000) const;

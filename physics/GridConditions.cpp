@@ -10,7 +10,6 @@
 
 namespace impm {
 
-
 GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const GridDistribution& dist,
                                const std::vector<WallSpec>& walls, const ContactSpec& contact)
     : dim_(dist.grid().dim), specs_(specs), walls_(walls) {
@@ -48,7 +47,8 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   node_ = toDevice(nodes, "condition_nodes");
   comp_ = toDevice(comps, "condition_components");
   cond_ = toDevice(conds, "condition_of_dof");
-  values_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("condition_values", specs.size(), int(PrescribedField::Count) * 3);
+  values_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("condition_values", specs.size(),
+                                                                    int(PrescribedField::Count) * 3);
   dofForce_ = Kokkos::View<double*, DeviceType>("condition_dof_force", nodes.size());
   localReaction_.assign(3 * (specs.size() + walls.size() + contact_.pairCount()), 0.0);
 

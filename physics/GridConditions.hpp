@@ -68,11 +68,15 @@ class GridConditions {
   // several velocity fields (contact), into every field's columns, field f's `stride` further on.
   template <class ExecSpace, class GridView>
   void write(const GridView& owned, int col, PrescribedField field, int stride = 0) const {
-    auto node = node_; auto comp = comp_; auto cond = cond_; auto values = values_;
+    auto node = node_;
+    auto comp = comp_;
+    auto cond = cond_;
+    auto values = values_;
     const int f = int(field), fields = stride > 0 ? fieldCount() : 1;
     Kokkos::parallel_for(
         "grid_condition_write", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          for (int b = 0; b < fields; ++b) owned(node(k), col + b * stride + comp(k)) = values(cond(k), f * 3 + comp(k));
+          for (int b = 0; b < fields; ++b)
+            owned(node(k), col + b * stride + comp(k)) = values(cond(k), f * 3 + comp(k));
         });
   }
 
@@ -80,7 +84,9 @@ class GridConditions {
   // to its node (the integrator knows the balance at the dof); then sums them per condition.
   template <class ExecSpace, class ForceAtDof>
   void recordReaction(const ForceAtDof& forceAt) {
-    auto node = node_; auto comp = comp_; auto force = dofForce_;
+    auto node = node_;
+    auto comp = comp_;
+    auto force = dofForce_;
     Kokkos::parallel_for(
         "grid_condition_reaction", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)),
         KOKKOS_LAMBDA(int k) { force(k) = forceAt(node(k), comp(k)); });
@@ -98,8 +104,8 @@ class GridConditions {
                                const KinView& kin, int velCol, int accCol, double damping) {
     if (contact_.active()) {
       std::vector<double> pairForce;
-      contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, kin, velCol, accCol, kinStride_, dim_, dt_, true,
-                                   &pairForce);
+      contact_.exchange<ExecSpace>(sums, massCol, gradCol, sumsStride_, kin, velCol, accCol, kinStride_, dim_, dt_,
+                                   true, &pairForce);
       std::copy(pairForce.begin(), pairForce.end(), localReaction_.end() - pairForce.size());
     }
     write<ExecSpace>(kin, velCol, PrescribedField::EndVelocity, kinStride_);
@@ -189,7 +195,11 @@ class GridConditions {
   template <class ExecSpace, class SumsView, class KinView>
   void wallContact(const SumsView& sums, int massCol, int sumsStride, const KinView& kin, int velCol, int accCol,
                    int kinStride, bool record) const {
-    auto node = wallNode_; auto wall = wallOf_; auto params = wallParams_; auto force = wallForce_; auto free = wallFree_;
+    auto node = wallNode_;
+    auto wall = wallOf_;
+    auto params = wallParams_;
+    auto force = wallForce_;
+    auto free = wallFree_;
     const int dim = dim_, fields = kinStride > 0 ? fieldCount() : 1;
     const double dt = dt_;
     Kokkos::parallel_for(

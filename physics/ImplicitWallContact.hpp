@@ -47,9 +47,18 @@ class ImplicitWallContact {
   // Per wall node: its owned node, its wall, the components the wall may change (bit d), and per
   // wall (axis, side, mu); `force` receives each wall node's reaction.
   ImplicitWallContact(IntView node, IntView wall, IntView freeMask, Table params, Table force, int dim, bool frictional)
-      : node_(node), wall_(wall), mask_(freeMask), params_(params), force_(force), dim_(dim), frictional_(frictional),
-        held_("wall_held", node.extent(0)), decided_("wall_decided", node.extent(0)), slip_("wall_slip", node.extent(0)),
-        friction_("wall_friction", node.extent(0), 3), load_("wall_external_load", node.extent(0), 3) {}
+      : node_(node),
+        wall_(wall),
+        mask_(freeMask),
+        params_(params),
+        force_(force),
+        dim_(dim),
+        frictional_(frictional),
+        held_("wall_held", node.extent(0)),
+        decided_("wall_decided", node.extent(0)),
+        slip_("wall_slip", node.extent(0)),
+        friction_("wall_friction", node.extent(0), 3),
+        load_("wall_external_load", node.extent(0), 3) {}
 
   bool frictional() const { return frictional_; }
   // The solves a step may take before its last one stands.
@@ -67,7 +76,8 @@ class ImplicitWallContact {
   template <class ExecSpace, class StateView>
   void keepLoads(const StateView& s, int fextCol) const {
     if (!frictional_) return;
-    auto node = node_; auto load = load_;
+    auto node = node_;
+    auto load = load_;
     const int dim = dim_;
     Kokkos::parallel_for(
         "implicit_wall_keep_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -79,7 +89,9 @@ class ImplicitWallContact {
   template <class ExecSpace, class StateView>
   void loadFriction(const StateView& s, int fextCol) const {
     if (!frictional_) return;
-    auto node = node_; auto load = load_; auto friction = friction_;
+    auto node = node_;
+    auto load = load_;
+    auto friction = friction_;
     const int dim = dim_;
     Kokkos::parallel_for(
         "implicit_wall_reset_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -96,8 +108,13 @@ class ImplicitWallContact {
   // component is not free, any other wall component is free where the node's mass exceeds cutoff.
   template <class ExecSpace, class StateView>
   void hold(const StateView& s, int massCol, int velCol, int accCol, int freeCol, double cutoff, double dt) const {
-    auto node = node_; auto wall = wall_; auto params = params_; auto held = held_; auto decided = decided_;
-    auto mask = mask_; auto slip = slip_;
+    auto node = node_;
+    auto wall = wall_;
+    auto params = params_;
+    auto held = held_;
+    auto decided = decided_;
+    auto mask = mask_;
+    auto slip = slip_;
     const int dim = dim_;
     if (frictional_)  // tangential components: free where massive, before the walls decide
       Kokkos::parallel_for(
@@ -112,8 +129,9 @@ class ImplicitWallContact {
           const int n = node(k), axis = (int)params(wall(k), 0);
           const double side = params(wall(k), 1);
           const bool massive = s(n, massCol) > cutoff;
-          const bool hold = massive && (decided(k) != 0 ? decided(k) > 0
-                                                        : side * (s(n, velCol + axis) + 0.5 * dt * s(n, accCol + axis)) <= 0.0);
+          const bool hold =
+              massive &&
+              (decided(k) != 0 ? decided(k) > 0 : side * (s(n, velCol + axis) + 0.5 * dt * s(n, accCol + axis)) <= 0.0);
           held(k) = hold ? 1 : 0;
           s(n, freeCol + axis) = massive && !hold ? 1.0 : 0.0;
         });
@@ -134,8 +152,14 @@ class ImplicitWallContact {
   template <class ExecSpace, class DispView, class StateView, class ReactionAt, class EndVelocityAt>
   int revise(const DispView& d, int uCol, const StateView& s, int massCol, const ReactionAt& reactionAt,
              const EndVelocityAt& endVelocityAt, double dt, double tolerance) const {
-    auto node = node_; auto wall = wall_; auto params = params_; auto held = held_; auto decided = decided_;
-    auto mask = mask_; auto slip = slip_; auto friction = friction_;
+    auto node = node_;
+    auto wall = wall_;
+    auto params = params_;
+    auto held = held_;
+    auto decided = decided_;
+    auto mask = mask_;
+    auto slip = slip_;
+    auto friction = friction_;
     const int dim = dim_;
     int changes = 0;
     Kokkos::parallel_reduce(
@@ -177,8 +201,14 @@ class ImplicitWallContact {
   // slipping node's friction is rub()'s).
   template <class ExecSpace, class ReactionAt>
   void record(const ReactionAt& reactionAt) const {
-    auto node = node_; auto wall = wall_; auto params = params_; auto held = held_; auto force = force_;
-    auto mask = mask_; auto slip = slip_; auto friction = friction_;
+    auto node = node_;
+    auto wall = wall_;
+    auto params = params_;
+    auto held = held_;
+    auto force = force_;
+    auto mask = mask_;
+    auto slip = slip_;
+    auto friction = friction_;
     const int dim = dim_;
     Kokkos::parallel_for(
         "implicit_wall_reaction", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -195,8 +225,12 @@ class ImplicitWallContact {
   // node's tangential ones too.
   template <class ExecSpace, class DispView, class StateView>
   void stop(const DispView& d, int anewCol, int dvCol, const StateView& s, int velCol, double dt) const {
-    auto node = node_; auto wall = wall_; auto params = params_; auto held = held_;
-    auto mask = mask_; auto slip = slip_;
+    auto node = node_;
+    auto wall = wall_;
+    auto params = params_;
+    auto held = held_;
+    auto mask = mask_;
+    auto slip = slip_;
     const int dim = dim_;
     Kokkos::parallel_for(
         "implicit_wall_stop", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -211,15 +245,19 @@ class ImplicitWallContact {
         });
   }
 
-  // Friction on the end-of-step motion of the nodes that slipped in every solve (see the file comment): the new acceleration
-  // (anewCol..) and velocity change (dvCol..) in d, the start velocity and mass in s,
-  // reactionAt(n, axis) the held normal reaction N; each node's friction force goes into its
-  // tangential reaction.
+  // Friction on the end-of-step motion of the nodes that slipped in every solve (see the file comment): the new
+  // acceleration (anewCol..) and velocity change (dvCol..) in d, the start velocity and mass in s, reactionAt(n, axis)
+  // the held normal reaction N; each node's friction force goes into its tangential reaction.
   template <class ExecSpace, class DispView, class StateView, class ReactionAt>
   void rub(const DispView& d, int anewCol, int dvCol, const StateView& s, int massCol, int velCol,
            const ReactionAt& reactionAt, double dt, double gamma) const {
     if (!frictional_) return;
-    auto node = node_; auto wall = wall_; auto params = params_; auto held = held_; auto force = force_; auto mask = mask_;
+    auto node = node_;
+    auto wall = wall_;
+    auto params = params_;
+    auto held = held_;
+    auto force = force_;
+    auto mask = mask_;
     auto slip = slip_;
     const int dim = dim_;
     Kokkos::parallel_for(

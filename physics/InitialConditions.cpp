@@ -31,8 +31,8 @@ void applyManufacturedVelocity(ParticleSet& particles, const AxisAlignedManufact
   Kokkos::fence();
 }
 
-double applyGeostaticStress(ParticleSet& particles, const Materials& materials, int body, double gravity, double surfaceY,
-                            double k0) {
+double applyGeostaticStress(ParticleSet& particles, const Materials& materials, int body, double gravity,
+                            double surfaceY, double k0) {
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles.x);
   auto ids = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles.body);
   auto mat = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles.material);

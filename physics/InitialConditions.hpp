@@ -22,7 +22,7 @@ void applyManufacturedVelocity(ParticleSet& particles, const AxisAlignedManufact
 // the elastic log strains of that stress (the body starts at F = I, stressed); the linear law
 // takes the stress as its initial state. Returns the largest y of the body's particles on this
 // rank (-inf without any), for the caller's check against surfaceY.
-double applyGeostaticStress(ParticleSet& particles, const Materials& materials, int body, double gravity, double surfaceY,
-                            double k0);
+double applyGeostaticStress(ParticleSet& particles, const Materials& materials, int body, double gravity,
+                            double surfaceY, double k0);
 
 }  // namespace impm

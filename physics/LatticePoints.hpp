@@ -32,7 +32,8 @@ inline void gaussLegendre(int n, std::vector<double>& xi, std::vector<double>& w
     xi = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
     w = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
   } else {
-    throw std::invalid_argument("Gauss-Legendre rule of " + std::to_string(n) + " points: only 2 and 3 are implemented");
+    throw std::invalid_argument("Gauss-Legendre rule of " + std::to_string(n) +
+                                " points: only 2 and 3 are implemented");
   }
 }
 
@@ -47,8 +48,10 @@ inline std::vector<double> latticeOffsets(LatticePoints rule, int n) {
     return offsets;
   }
   if (n < 2 || n % 2)
-    throw std::invalid_argument("Gauss placement puts 2-point Gauss-Legendre pairs in sub-cells: particles per cell must "
-                                "be even, got " + std::to_string(n));
+    throw std::invalid_argument(
+        "Gauss placement puts 2-point Gauss-Legendre pairs in sub-cells: particles per cell must "
+        "be even, got " +
+        std::to_string(n));
   std::vector<double> xi, w;
   gaussLegendre(2, xi, w);
   for (int k = 0; k < n / 2; ++k)  // sub-box k spans [2k, 2k + 2] shares, half width 1 share

@@ -53,7 +53,10 @@ LayeredBarExact::LayeredBarExact(std::vector<Segment> segments, double area, dou
   // at tMax comes with its reflection (both count half there).
   fronts_.assign(n, {});
   const double S = F0 / area, tiny = 1e-14 * std::abs(S);
-  struct Pending { int k, dir; double tStart, dS; };
+  struct Pending {
+    int k, dir;
+    double tStart, dS;
+  };
   std::deque<Pending> queue{{int(n) - 1, -1, 0.0, S}};
   const int last = int(n) - 1;
   while (!queue.empty()) {
@@ -61,14 +64,13 @@ LayeredBarExact::LayeredBarExact(std::vector<Segment> segments, double area, dou
     queue.pop_front();
     if (p.dS == 0.0 || std::abs(p.dS) < tiny) continue;
     if (++count_ > maxFronts)
-      throw std::runtime_error(where + "more than " + std::to_string(maxFronts) +
-                               " front pieces needed up to tMax = " + std::to_string(tMax) +
-                               " s; lower tMax or raise maxFronts");
+      throw std::runtime_error(where + "more than " + std::to_string(maxFronts) + " front pieces needed up to tMax = " +
+                               std::to_string(tMax) + " s; lower tMax or raise maxFronts");
     const int k = p.k;
     fronts_[k].push_back({p.tStart, p.dS, -p.dir * p.dS / Z_[k], p.dir});
     // Same expression as arrival() at the far end, so a child's start time equals the parent's
     // arrival time there bit for bit (at the ends a piece and its reflection then cancel up to the
-  // rounding of the running sum).
+    // rounding of the running sum).
     const double tEnd = p.tStart + (xb_[k + 1] - xb_[k]) / c_[k];
     if (tEnd > tMax) continue;
     if (p.dir < 0) {
@@ -88,8 +90,7 @@ LayeredBarExact::LayeredBarExact(std::vector<Segment> segments, double area, dou
     }
   }
   for (auto& list : fronts_)
-    std::stable_sort(list.begin(), list.end(),
-                     [](const Front& a, const Front& b) { return a.tStart < b.tStart; });
+    std::stable_sort(list.begin(), list.end(), [](const Front& a, const Front& b) { return a.tStart < b.tStart; });
 }
 
 const LayeredBarExact::Segment& LayeredBarExact::segment(int k) const { return segments_.at(k); }

@@ -36,14 +36,17 @@
 namespace impm {
 
 struct LayeredBarExact {
-  struct Segment { double xBegin, xEnd, E, rho; };
-  struct State { double displacement, velocity, stress; };
+  struct Segment {
+    double xBegin, xEnd, E, rho;
+  };
+  struct State {
+    double displacement, velocity, stress;
+  };
 
   // segments: ordered left to right, contiguous (segments[0].xBegin == 0, each xBegin equal to
   // the previous xEnd within 1e-12 L), positive lengths, E and rho; area > 0, tMax > 0, F0 finite.
   // Throws std::invalid_argument on bad input, std::runtime_error past maxFronts pieces.
-  LayeredBarExact(std::vector<Segment> segments, double area, double F0, double tMax,
-                  std::size_t maxFronts = 2000000);
+  LayeredBarExact(std::vector<Segment> segments, double area, double F0, double tMax, std::size_t maxFronts = 2000000);
 
   // All throw std::out_of_range for x outside [0, L] or t > tMax.
   double displacement(double x, double t) const;
@@ -70,12 +73,15 @@ struct LayeredBarExact {
   static double reflectionCoefficient(double Za, double Zb);    // (Zb - Za) / (Za + Zb), back into a
 
  private:
-  struct Front { double tStart, dS, dV; int dir; };
+  struct Front {
+    double tStart, dS, dV;
+    int dir;
+  };
   double arrival(const Front& f, int k, double x) const;
   void checkPoint(double x, double t) const;
 
   std::vector<Segment> segments_;
-  std::vector<double> xb_, c_, Z_;       // xb_: the N + 1 segment boundaries
+  std::vector<double> xb_, c_, Z_;  // xb_: the N + 1 segment boundaries
   double A_, F0_, tMax_;
   std::vector<std::vector<Front>> fronts_;  // per segment, sorted by tStart
   std::size_t count_ = 0;

@@ -25,15 +25,16 @@ double faceShare(bool quadratic, int node, double xc, double h, double lo, doubl
   double integral = 0.0;
   for (double s = a; s < b;) {
     const double e = std::min(b, xc + (std::floor((s - xc) / h + 1e-12) + 1.0) * h);  // next grid line
-    for (int q = 0; q < 3; ++q) integral += 0.5 * (e - s) * gaussWeight[q] * shape(0.5 * (s + e) + 0.5 * (e - s) * gaussPoint[q]);
+    for (int q = 0; q < 3; ++q)
+      integral += 0.5 * (e - s) * gaussWeight[q] * shape(0.5 * (s + e) + 0.5 * (e - s) * gaussPoint[q]);
     s = e;
   }
   return integral / (hi - lo);
 }
 }  // namespace
 
-LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dist, const std::vector<long long>& particleIds,
-                 int bodyCount, bool quadraticElements)
+LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dist,
+                 const std::vector<long long>& particleIds, int bodyCount, bool quadraticElements)
     : specs_(specs), bodyCount_(bodyCount), dim_(dist.grid().dim) {
   const StructuredGrid& g = dist.grid();
   const LocalNodeIndexer& owned = dist.ownedIndexer();
@@ -52,12 +53,20 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dis
           if (d != normal)
             w *= faceShare(quadraticElements, index[d], g.origin(d) + index[d] * g.spacing(d), g.spacing(d), body.lo(d),
                            body.hi(d));
-        if (owned.contains(i, j, k) && w > 0) { nodes.push_back(owned(i, j, k)); loads.push_back((int)l); weights.push_back(w); }
+        if (owned.contains(i, j, k) && w > 0) {
+          nodes.push_back(owned(i, j, k));
+          loads.push_back((int)l);
+          weights.push_back(w);
+        }
       }
     } else if (s.type == "Node Force") {
       const int i = (int)std::lround((s.x - g.x0) / g.hx), j = (int)std::lround((s.y - g.y0) / g.hy);
       const int k = g.dim == 3 ? (int)std::lround((s.z - g.z0) / g.hz) : 0;
-      if (owned.contains(i, j, k)) { nodes.push_back(owned(i, j, k)); loads.push_back((int)l); weights.push_back(1.0); }
+      if (owned.contains(i, j, k)) {
+        nodes.push_back(owned(i, j, k));
+        loads.push_back((int)l);
+        weights.push_back(1.0);
+      }
     } else if (s.type == "Particle Force") {
       if (l < particleIds.size() && particleIds[l] >= 0) particleLoadIds_.emplace_back(particleIds[l], (int)l);
     } else if (s.type == "Body Force") {
@@ -70,10 +79,17 @@ LoadSet::LoadSet(const std::vector<LoadSpec>& specs, const GridDistribution& dis
   node_ = Kokkos::View<int*, DeviceType>("load_nodes", nodes.size());
   load_ = Kokkos::View<int*, DeviceType>("load_ids", loads.size());
   weight_ = Kokkos::View<double*, DeviceType>("load_weights", weights.size());
-  auto hn = Kokkos::create_mirror_view(node_); auto hl = Kokkos::create_mirror_view(load_);
+  auto hn = Kokkos::create_mirror_view(node_);
+  auto hl = Kokkos::create_mirror_view(load_);
   auto hw = Kokkos::create_mirror_view(weight_);
-  for (size_t k = 0; k < nodes.size(); ++k) { hn(k) = nodes[k]; hl(k) = loads[k]; hw(k) = weights[k]; }
-  Kokkos::deep_copy(node_, hn); Kokkos::deep_copy(load_, hl); Kokkos::deep_copy(weight_, hw);
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    hn(k) = nodes[k];
+    hl(k) = loads[k];
+    hw(k) = weights[k];
+  }
+  Kokkos::deep_copy(node_, hn);
+  Kokkos::deep_copy(load_, hl);
+  Kokkos::deep_copy(weight_, hw);
   nodalForce_ = decltype(nodalForce_)("load_force", specs.size(), dim_);
   bodyAcceleration_ = decltype(bodyAcceleration_)("body_acceleration", bodyCount, dim_);
 }
@@ -85,7 +101,10 @@ void LoadSet::locateParticles(const ParticleSet& ps) {
     auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id);
     for (int p = 0; p < ps.count; ++p)
       for (const auto& [gid, load] : particleLoadIds_)
-        if (id(p) == gid) { parts.push_back(p); particleLoad_.push_back(load); }
+        if (id(p) == gid) {
+          parts.push_back(p);
+          particleLoad_.push_back(load);
+        }
   }
   particle_ = Kokkos::View<int*, DeviceType>("load_particles", parts.size());
   auto hp = Kokkos::create_mirror_view(particle_);

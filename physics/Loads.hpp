@@ -18,13 +18,13 @@ namespace impm {
 
 struct LoadSpec {
   std::string name;
-  std::string type;  // "Face Traction", "Node Force", "Particle Force", "Body Force", "Manufactured Body Force"
-  std::string face;  // for Face Traction
+  std::string type;      // "Face Traction", "Node Force", "Particle Force", "Body Force", "Manufactured Body Force"
+  std::string face;      // for Face Traction
   RectangularBody body;  // the body whose face carries a Face Traction
   int bodyIndex = -1;    // Body Force, Manufactured Body Force: the body (-1: every body)
   AxisAlignedManufactured manufactured;  // Manufactured Body Force: the field whose forcing it is
   double x = 0, y = 0, z = 0;
-  double forceX = 0, forceY = 0, forceZ = 0;  // total force (N)
+  double forceX = 0, forceY = 0, forceZ = 0;                       // total force (N)
   double accelerationX = 0, accelerationY = 0, accelerationZ = 0;  // Body Force (m/s^2)
   double force(int d) const { return d == 0 ? forceX : d == 1 ? forceY : forceZ; }
   double acceleration(int d) const { return d == 0 ? accelerationX : d == 1 ? accelerationY : accelerationZ; }
@@ -33,8 +33,13 @@ struct LoadSpec {
   static LoadSpec faceTraction(const std::string& name, const RectangularBody& body, const std::string& face,
                                double forceX, double forceY, TimeFunction time = {}) {
     LoadSpec s;
-    s.name = name; s.type = "Face Traction"; s.body = body; s.face = face;
-    s.forceX = forceX; s.forceY = forceY; s.time = time;
+    s.name = name;
+    s.type = "Face Traction";
+    s.body = body;
+    s.face = face;
+    s.forceX = forceX;
+    s.forceY = forceY;
+    s.time = time;
     return s;
   }
 };
@@ -54,7 +59,10 @@ class LoadSet {
   template <class ExecSpace, class GridView>
   void applyNodal(const GridView& owned, int col, double t) const {
     updateMagnitudes(t);
-    auto node = node_; auto load = load_; auto w = weight_; auto f = nodalForce_;
+    auto node = node_;
+    auto load = load_;
+    auto w = weight_;
+    auto f = nodalForce_;
     const int dim = dim_;
     Kokkos::parallel_for(
         "nodal_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
@@ -79,8 +87,8 @@ class LoadSet {
     if (hasBodyForces())
       particleToGridBodyForces<ExecSpace, Shape, Dim>(g, ix, ps, bodyAccelerations(t), grid, col, fields);
     for (int l : manufacturedLoads_)
-      particleToGridBodyForceField<ExecSpace, Shape, Dim>(g, ix, ps, specs_[l].manufactured, t, specs_[l].bodyIndex, grid,
-                                                          col, fields);
+      particleToGridBodyForceField<ExecSpace, Shape, Dim>(g, ix, ps, specs_[l].manufactured, t, specs_[l].bodyIndex,
+                                                          grid, col, fields);
   }
 
  private:
@@ -89,8 +97,8 @@ class LoadSet {
   Kokkos::View<int*, DeviceType> node_, load_;
   Kokkos::View<double*, DeviceType> weight_;
   mutable Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> nodalForce_;  // per load, at t
-  Kokkos::View<int*, DeviceType> particle_;  // local indices of the carrying particles on this rank
-  std::vector<int> particleLoad_;             // their loads
+  Kokkos::View<int*, DeviceType> particle_;                 // local indices of the carrying particles on this rank
+  std::vector<int> particleLoad_;                           // their loads
   std::vector<std::pair<long long, int>> particleLoadIds_;  // (global id, load) of every Particle Force
   mutable Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> particleForce_;
   std::vector<int> bodyForceLoads_;

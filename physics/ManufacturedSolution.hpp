@@ -21,10 +21,10 @@ namespace impm {
 
 struct AxisAlignedManufactured {
   int dim = 2;
-  double amplitude = 0;           // A (m)
-  double length = 1;              // L: the body's side (m)
-  double origin[3] = {0, 0, 0};   // o: its lower corner
-  double omega = 0;               // pi sqrt(E / rho0) / L (rad/s)
+  double amplitude = 0;                    // A (m)
+  double length = 1;                       // L: the body's side (m)
+  double origin[3] = {0, 0, 0};            // o: its lower corner
+  double omega = 0;                        // pi sqrt(E / rho0) / L (rad/s)
   double mu = 0, lambda = 0, density = 0;  // the body's neo-Hookean constants and rho0
 
   static constexpr double kPi = 3.14159265358979323846;

@@ -57,36 +57,58 @@ struct MaterialParameters {
 };
 
 struct MaterialLaw {
-  enum : int { Model = 0, C11, C12, C33, CZZ, InvDet, Lambda, Mu, Yield, Hardening, Eta, EtaBar, Xi, Residual, Tension, Count };
+  enum : int {
+    Model = 0,
+    C11,
+    C12,
+    C33,
+    CZZ,
+    InvDet,
+    Lambda,
+    Mu,
+    Yield,
+    Hardening,
+    Eta,
+    EtaBar,
+    Xi,
+    Residual,
+    Tension,
+    Count
+  };
   Kokkos::View<double* [Count], Kokkos::LayoutRight, DeviceType> table;
 
   KOKKOS_FORCEINLINE_FUNCTION int model(int m) const { return (int)table(m, Model); }
-  KOKKOS_FORCEINLINE_FUNCTION bool isLinearElastic(int m) const { return model(m) == (int)MaterialModel::LinearElastic; }
+  KOKKOS_FORCEINLINE_FUNCTION bool isLinearElastic(int m) const {
+    return model(m) == (int)MaterialModel::LinearElastic;
+  }
   KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) != (int)MaterialModel::LinearElastic; }
   // The elastoplastic models (J2, Drucker-Prager, Mohr-Coulomb): b_e and the equivalent plastic strain.
   KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) >= (int)MaterialModel::J2Plasticity; }
   KOKKOS_FORCEINLINE_FUNCTION LinearElasticModel linearElastic(int m) const {  // inline: a 40-byte return
     return LinearElasticModel{table(m, C11), table(m, C12), table(m, C33), table(m, CZZ), table(m, InvDet)};
   }
-  KOKKOS_INLINE_FUNCTION NeoHookeanModel neoHookean(int m) const { return NeoHookeanModel{table(m, Lambda), table(m, Mu)}; }
+  KOKKOS_INLINE_FUNCTION NeoHookeanModel neoHookean(int m) const {
+    return NeoHookeanModel{table(m, Lambda), table(m, Mu)};
+  }
   KOKKOS_INLINE_FUNCTION J2PlasticityModel j2(int m) const {
     return J2PlasticityModel{table(m, Lambda), table(m, Mu), table(m, Yield), table(m, Hardening)};
   }
   // Yield holds the cohesion c_0 and Hardening its modulus.
   KOKKOS_INLINE_FUNCTION DruckerPragerModel druckerPrager(int m) const {
-    return DruckerPragerModel{table(m, Lambda), table(m, Mu),    table(m, Eta),      table(m, EtaBar),
+    return DruckerPragerModel{table(m, Lambda), table(m, Mu),    table(m, Eta),       table(m, EtaBar),
                               table(m, Xi),     table(m, Yield), table(m, Hardening), table(m, Residual)};
   }
   // Mohr-Coulomb: Eta, Xi and EtaBar hold sin(phi), cos(phi) and sin(psi).
   KOKKOS_INLINE_FUNCTION MohrCoulombModel mohrCoulomb(int m) const {
-    return MohrCoulombModel{table(m, Lambda), table(m, Mu),        table(m, Eta),      table(m, Xi),     table(m, EtaBar),
-                            table(m, Yield),  table(m, Hardening), table(m, Residual), table(m, Tension)};
+    return MohrCoulombModel{table(m, Lambda),    table(m, Mu),       table(m, Eta),
+                            table(m, Xi),        table(m, EtaBar),   table(m, Yield),
+                            table(m, Hardening), table(m, Residual), table(m, Tension)};
   }
 
   // s may alias s0.
   template <int Dim>
-  KOKKOS_FORCEINLINE_FUNCTION void stress(int m, const double* s0, const double (&G)[Dim][Dim], const double (&F)[Dim][Dim],
-                                     double* h, double* s) const {
+  KOKKOS_FORCEINLINE_FUNCTION void stress(int m, const double* s0, const double (&G)[Dim][Dim],
+                                          const double (&F)[Dim][Dim], double* h, double* s) const {
     const int kind = model(m);
     if (kind == (int)MaterialModel::LinearElastic)
       linearElastic(m).template stress<Dim>(s0, G, s);
@@ -132,7 +154,8 @@ struct MaterialLaw {
     if (hasHistory(m)) henckyInitialHistory(h);
   }
   template <int Dim>
-  KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim], const double* h) const {
+  KOKKOS_INLINE_FUNCTION double energyDensity(int m, const double* s, const double (&F)[Dim][Dim],
+                                              const double* h) const {
     const int kind = model(m);
     if (kind == (int)MaterialModel::LinearElastic) return linearElastic(m).template energyDensity<Dim>(s);
     if (kind == (int)MaterialModel::NeoHookean) return neoHookean(m).template energyDensity<Dim>(F);
@@ -148,13 +171,17 @@ class Materials {
  public:
   using Law = MaterialLaw;
   Materials() : Materials(std::vector<MaterialParameters>{MaterialParameters{}}, PlaneCondition::PlaneStrain) {}
-  Materials(const std::vector<MaterialParameters>& materials, PlaneCondition plane) : params_(materials), plane_(plane) {
+  Materials(const std::vector<MaterialParameters>& materials, PlaneCondition plane)
+      : params_(materials), plane_(plane) {
     law_.table = decltype(law_.table)("material_constants", materials.size());
     auto h = Kokkos::create_mirror_view(law_.table);
     for (int m = 0; m < (int)materials.size(); ++m) {
       const double E = params_[m].E, nu = params_[m].nu;
       h(m, Law::Model) = (double)params_[m].model;
-      h(m, Law::C11) = c11(m); h(m, Law::C12) = c12(m); h(m, Law::C33) = c33(m); h(m, Law::CZZ) = czz(m);
+      h(m, Law::C11) = c11(m);
+      h(m, Law::C12) = c12(m);
+      h(m, Law::C33) = c33(m);
+      h(m, Law::CZZ) = czz(m);
       h(m, Law::InvDet) = 1.0 / (c11(m) * c11(m) - c12(m) * c12(m));
       h(m, Law::Lambda) = E * nu / ((1 + nu) * (1 - 2 * nu));
       h(m, Law::Mu) = E / (2 * (1 + nu));
@@ -165,7 +192,9 @@ class Materials {
         double eta = 0, etaBar = 0, xi = 0, xiBar = 0;
         DruckerPragerModel::coneSlopes(params_[m].cone, params_[m].frictionAngle * degree, eta, xi);
         DruckerPragerModel::coneSlopes(params_[m].cone, params_[m].dilatancyAngle * degree, etaBar, xiBar);
-        h(m, Law::Eta) = eta; h(m, Law::EtaBar) = etaBar; h(m, Law::Xi) = xi;
+        h(m, Law::Eta) = eta;
+        h(m, Law::EtaBar) = etaBar;
+        h(m, Law::Xi) = xi;
         h(m, Law::Yield) = params_[m].cohesion;
         h(m, Law::Hardening) = params_[m].cohesionModulus;
         h(m, Law::Residual) = params_[m].residualCohesion;
@@ -227,7 +256,9 @@ class Materials {
     return c;
   }
   std::string planeName() const {
-    return plane_ == PlaneCondition::PlaneStrain ? "plane strain" : plane_ == PlaneCondition::PlaneStress ? "plane stress" : "3D";
+    return plane_ == PlaneCondition::PlaneStrain   ? "plane strain"
+           : plane_ == PlaneCondition::PlaneStress ? "plane stress"
+                                                   : "3D";
   }
 
  private:

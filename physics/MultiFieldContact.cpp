@@ -5,9 +5,12 @@
 namespace impm {
 
 MultiFieldContact::MultiFieldContact(const ContactSpec& spec, const double* spacing)
-    : fields_((int)spec.bodies.size()), pairs_((int)spec.pairFriction.size()),
-      larger_(spec.normals == ContactSpec::Normals::LargerGradient), screen_(spec.massScreen),
-      distance_(spec.contactDistance), spacing_{spacing[0], spacing[1], spacing[2]} {
+    : fields_((int)spec.bodies.size()),
+      pairs_((int)spec.pairFriction.size()),
+      larger_(spec.normals == ContactSpec::Normals::LargerGradient),
+      screen_(spec.massScreen),
+      distance_(spec.contactDistance),
+      spacing_{spacing[0], spacing[1], spacing[2]} {
   if (fields_ > kMaxFields)
     throw std::invalid_argument("multi-field contact takes at most " + std::to_string(kMaxFields) + " bodies, got " +
                                 std::to_string(fields_));
@@ -21,7 +24,8 @@ MultiFieldContact::MultiFieldContact(const ContactSpec& spec, const double* spac
   auto mu = Kokkos::create_mirror_view(friction_);
   for (int a = 0; a < fields_; ++a) {
     field(a) = a;
-    for (int b = 0; b < fields_; ++b) mu(a, b) = a == b ? 0.0 : spec.pairFriction[ContactSpec::pairIndex(a, b, fields_)];
+    for (int b = 0; b < fields_; ++b)
+      mu(a, b) = a == b ? 0.0 : spec.pairFriction[ContactSpec::pairIndex(a, b, fields_)];
   }
   Kokkos::deep_copy(fieldOfBody_, field);
   Kokkos::deep_copy(friction_, mu);

@@ -9,8 +9,8 @@
 //     Nairn's MVG): g_a / |g_a| or -g_rest / |g_rest| (g_rest of the other bodies together),
 //     whichever gradient is larger; Average (AVG): (g_a - g_rest) / |g_a - g_rest|. The average
 //     tilts at a body's corner, where a sliding body then plows into the other (a block on an
-//     incline travelled 6% short frictionless, against 0.04% with the larger gradient). Both make the two bodies' normals opposite, so a two-body contact
-//     conserves momentum;
+//     incline travelled 6% short frictionless, against 0.04% with the larger gradient). Both make the two bodies'
+//     normals opposite, so a two-body contact conserves momentum;
 //   - the bodies approach when dv = v_a - v_cm has dv.n_a > 0; only then is v_a corrected
 //     (separating bodies are left alone), and a node where a holds less than `massScreen` of the
 //     mass (or more than 1 - massScreen) is skipped: a body's far stencil edge carries too little
@@ -134,10 +134,10 @@ class MultiFieldContact {
   std::vector<std::array<double, 3>> rigidVelocity_;
   std::vector<TimeFunction> rigidTime_;
   Kokkos::View<int*, DeviceType> fieldOfBody_;
-  Kokkos::View<int*, DeviceType> rigid_;                              // per field: 1 if rigid
+  Kokkos::View<int*, DeviceType> rigid_;                                 // per field: 1 if rigid
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> rigidMotion_;  // per field: V(t) (3), V(t + dt) (3)
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> rigidNormal_;  // per field: outward normal, or 0
-  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> friction_;  // field x field (kNoSlip: no slip)
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> friction_;     // field x field (kNoSlip: no slip)
 };
 
 // The node kernel, a reduction of the pair forces (3 per pair) over the nodes.
@@ -276,7 +276,8 @@ struct MultiFieldContact::Exchange {
   // The unit normal out of field a at node n (false where it is undefined): a rigid other's
   // given surface normal, reversed, or from the volume gradients.
   KOKKOS_INLINE_FUNCTION bool contactNormal(int n, int a, int other, double* normal) const {
-    if (hasRigid && rigid(other) && (rigidNormal(other, 0) != 0.0 || rigidNormal(other, 1) != 0.0 || rigidNormal(other, 2) != 0.0)) {
+    if (hasRigid && rigid(other) &&
+        (rigidNormal(other, 0) != 0.0 || rigidNormal(other, 1) != 0.0 || rigidNormal(other, 2) != 0.0)) {
       for (int d = 0; d < dim; ++d) normal[d] = -rigidNormal(other, d);
       return true;
     }
@@ -309,12 +310,14 @@ void MultiFieldContact::exchange(const SumsView& sums, int massCol, int gradCol,
                                  int velCol, int accCol, int kinStride, int dim, double dt, bool stepEnd,
                                  std::vector<double>* pairForce) const {
   if (!active()) return;
-  Exchange<SumsView, KinView> op{sums,    kin,     friction_, rigid_,    rigidMotion_, rigidNormal_,
-                                 massCol, gradCol, sumsStride, velCol,   accCol,
-                                 kinStride, fields_, dim,     dt,        screen_,
-                                 distance_, {spacing_[0], spacing_[1], spacing_[2]}, larger_, hasRigid_, stepEnd, 3 * pairs_};
+  Exchange<SumsView, KinView> op{
+      sums,    kin,       friction_,  rigid_,    rigidMotion_, rigidNormal_,
+      massCol, gradCol,   sumsStride, velCol,    accCol,       kinStride,
+      fields_, dim,       dt,         screen_,   distance_,    {spacing_[0], spacing_[1], spacing_[2]},
+      larger_, hasRigid_, stepEnd,    3 * pairs_};
   std::vector<double> sumsOut(3 * pairs_, 0.0);
-  Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> result(sumsOut.data(), sumsOut.size());
+  Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> result(sumsOut.data(),
+                                                                                           sumsOut.size());
   Kokkos::parallel_reduce("multi_field_contact", Kokkos::RangePolicy<ExecSpace>(0, kin.extent(0)), op, result);
   if (pairForce) {
     for (int k = 0; k < pairs_; ++k)

@@ -158,8 +158,8 @@ long long writeRankFile(const std::string& path, const CheckpointContent& c, int
   out.append(kEndMagic, 8);
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) throw std::runtime_error("cannot write the checkpoint file " + path);
-  const bool written = std::fwrite(out.data(), 1, out.size(), f) == out.size() && std::fflush(f) == 0 &&
-                       ::fsync(fileno(f)) == 0;
+  const bool written =
+      std::fwrite(out.data(), 1, out.size(), f) == out.size() && std::fflush(f) == 0 && ::fsync(fileno(f)) == 0;
   if (std::fclose(f) != 0 || !written) throw std::runtime_error("cannot write the checkpoint file " + path);
   return (long long)out.size();
 }
@@ -286,8 +286,7 @@ CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& de
     const std::string where = "--restart '" + dir + "': ";
     const std::string headerPath = dir + "/header.xml";
     if (!fs::is_directory(dir)) throw CheckpointError(where + "no such directory");
-    if (!fs::exists(headerPath))
-      throw CheckpointError(where + "not a complete impm checkpoint (no header.xml)");
+    if (!fs::exists(headerPath)) throw CheckpointError(where + "not a complete impm checkpoint (no header.xml)");
     ParameterList header;
     try {
       header = *Teuchos::getParametersFromXmlFile(headerPath);
@@ -301,11 +300,12 @@ CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& de
     };
     const int format = field("Format Version", 0);
     if (format != kCheckpointFormatVersion)
-      throw CheckpointError(where + "checkpoint format version " + std::to_string(format) + "; this impm reads version " +
-                            std::to_string(kCheckpointFormatVersion));
+      throw CheckpointError(where + "checkpoint format version " + std::to_string(format) +
+                            "; this impm reads version " + std::to_string(kCheckpointFormatVersion));
     const std::string version = field("impm Version", std::string());
     if (version != impmVersion())
-      throw CheckpointError(where + "written by impm version '" + version + "'; this is impm version '" + impmVersion() + "'");
+      throw CheckpointError(where + "written by impm version '" + version + "'; this is impm version '" +
+                            impmVersion() + "'");
     if (!header.isSublist("Deck") || !header.isSublist("Rank File Bytes"))
       throw CheckpointError(where + "header.xml has no Deck or Rank File Bytes (truncated or not a checkpoint header)");
     const std::string difference = firstDifference(header.sublist("Deck"), normalized(checkpointedDeck(deck)), "");
@@ -333,8 +333,8 @@ CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& de
     for (int r = same ? rank : 0; r < (same ? rank + 1 : writers); ++r) {
       RankFile f = readRankFile(dir + "/" + rankFileName(r), dim, width);
       if (f.step != content.step)
-        throw CheckpointError(where + rankFileName(r) + " is of step " + std::to_string(f.step) + ", header.xml of step " +
-                              std::to_string(content.step));
+        throw CheckpointError(where + rankFileName(r) + " is of step " + std::to_string(f.step) +
+                              ", header.xml of step " + std::to_string(content.step));
       auto mine = [&](int64_t p) {
         double x[3] = {0, 0, 0};
         for (int d = 0; d < dim; ++d) x[d] = f.rows[size_t(p) * width + ParticleSet::packedPositionColumn(d)];
@@ -345,8 +345,10 @@ CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& de
           kept.insert(kept.end(), f.rows.begin() + size_t(p) * width, f.rows.begin() + size_t(p + 1) * width);
       for (auto& [name, values] : f.arrays) {
         const bool perRank = name.rfind(kNodeArrayPrefix, 0) == 0;
-        if (perRank) content.state[name].insert(content.state[name].end(), values.begin(), values.end());
-        else if (r == (same ? rank : 0)) content.state[name] = std::move(values);
+        if (perRank)
+          content.state[name].insert(content.state[name].end(), values.begin(), values.end());
+        else if (r == (same ? rank : 0))
+          content.state[name] = std::move(values);
       }
     }
     expectedParticles = particles;

@@ -45,7 +45,7 @@ struct CheckpointContent {
   int step = 0;
   double time = 0;
   ParticleSet::Packed particles;  // this rank's particles (ParticleSet::pack), host or device
-  NamedArrays state;               // integrator and history
+  NamedArrays state;              // integrator and history
 };
 
 // Bumped when the binary layout or the header's meaning changes.

@@ -10,9 +10,14 @@ namespace impm {
 
 template <class Shape, int Dim>
 ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridDistribution& dist,
-                                        const Materials& material, GridConditions& conditions,
-                                        const LoadSet& loads, const ExplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), conditions_(conditions), loads_(loads), opt_(options),
+                                             const Materials& material, GridConditions& conditions,
+                                             const LoadSet& loads, const ExplicitOptions& options)
+    : ps_(particles),
+      dist_(dist),
+      mat_(material),
+      conditions_(conditions),
+      loads_(loads),
+      opt_(options),
       fieldCount_(conditions.fieldCount()),
       sumsStride_(fieldCount_ > 1 ? A::Count + 2 * Dim : 0),
       kinStride_(fieldCount_ > 1 ? K::Count : 0),
@@ -20,19 +25,23 @@ ExplicitStepper<Shape, Dim>::ExplicitStepper(ParticleSet& particles, const GridD
       fields_(dist, fieldCount_ > 1 ? fieldCount_ * sumsStride_ : A::Count, fieldCount_ * K::Count),
       projection_(dist) {
   if (fieldCount_ > 1 && opt_.projectionIterations > 0)
-    throw std::invalid_argument("the projection correction works on one velocity field; multi-field contact needs "
-                                "'Integrator/Explicit/Projection Iterations' = 0");
+    throw std::invalid_argument(
+        "the projection correction works on one velocity field; multi-field contact needs "
+        "'Integrator/Explicit/Projection Iterations' = 0");
   if (carriesAffineVelocity(opt_.transfer) && opt_.projectionIterations > 0)
-    throw std::invalid_argument("the projection correction corrects v_p, not an affine particle velocity; APIC and TPIC need "
-                                "'Integrator/Explicit/Consistent Projection Iterations' = 0");
+    throw std::invalid_argument(
+        "the projection correction corrects v_p, not an affine particle velocity; APIC and TPIC need "
+        "'Integrator/Explicit/Consistent Projection Iterations' = 0");
   if (carriesAffineVelocity(opt_.transfer) && !ps_.hasAffine()) ps_.allocateAffine();
   if (opt_.transfer == ParticleTransfer::Xpic) {
     if (fieldCount_ > 1)
-      throw std::invalid_argument("XPIC extrapolates one velocity field; multi-field contact and rigid bodies need "
-                                  "'Integrator/Explicit/Transfer' FLIP/PIC, APIC or TPIC");
+      throw std::invalid_argument(
+          "XPIC extrapolates one velocity field; multi-field contact and rigid bodies need "
+          "'Integrator/Explicit/Transfer' FLIP/PIC, APIC or TPIC");
     if (opt_.projectionIterations > 0)
-      throw std::invalid_argument("XPIC filters the particle velocity itself; it needs "
-                                  "'Integrator/Explicit/Consistent Projection Iterations' = 0");
+      throw std::invalid_argument(
+          "XPIC filters the particle velocity itself; it needs "
+          "'Integrator/Explicit/Consistent Projection Iterations' = 0");
     if (opt_.xpicOrder < 1) throw std::invalid_argument("the XPIC order must be at least 1");
     xpic_ = std::make_unique<XpicExtrapolation<Shape, Dim>>(dist, opt_.xpicOrder);
   }
@@ -59,8 +68,9 @@ std::string ExplicitStepper<Shape, Dim>::name() const {
   const char* s = opt_.scheme == ExplicitScheme::USF ? "USF" : opt_.scheme == ExplicitScheme::USL ? "USL" : "MUSL";
   const std::string transfer = opt_.transfer == ParticleTransfer::Apic   ? " APIC"
                                : opt_.transfer == ParticleTransfer::Tpic ? " TPIC"
-                               : opt_.transfer == ParticleTransfer::Xpic ? " XPIC(" + std::to_string(opt_.xpicOrder) + ")"
-                                                                         : "";
+                               : opt_.transfer == ParticleTransfer::Xpic
+                                   ? " XPIC(" + std::to_string(opt_.xpicOrder) + ")"
+                                   : "";
   return std::string("explicit ") + Shape::name + " " + s + transfer;
 }
 
@@ -122,8 +132,8 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
   // Grid conditions: contact between the bodies, prescribed velocity and acceleration, and the
   // force that holds them; the walls.
   if (withForces) {
-    conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, geometryCol_, kinv, K::VelX,
-                                                       K::AccX, damping);
+    conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, geometryCol_, kinv,
+                                                       K::VelX, K::AccX, damping);
   } else {  // (update stress first: the velocity at the start of the step)
     conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity, ks);
     conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero, ks);
@@ -135,8 +145,8 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
 template <class Shape, int Dim>
 void ExplicitStepper<Shape, Dim>::correctProjection() {
   PhaseTimer phase("projection correction");
-  projection_.apply(*fields_.accumOwned, A::Mass, A::MomX, ps_, ps_.v, conditions_, PrescribedField::StartVelocity, massCutoff_,
-                    opt_.projectionIterations);
+  projection_.apply(*fields_.accumOwned, A::Mass, A::MomX, ps_, ps_.v, conditions_, PrescribedField::StartVelocity,
+                    massCutoff_, opt_.projectionIterations);
 }
 
 template <class Shape, int Dim>

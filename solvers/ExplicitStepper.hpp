@@ -33,7 +33,7 @@ constexpr double kTransferStabilityFraction = 0.7;
 
 struct ExplicitOptions {
   ExplicitScheme scheme = ExplicitScheme::USL;
-  double flip = 1.0;             // 1 = pure FLIP, 0 = pure PIC
+  double flip = 1.0;  // 1 = pure FLIP, 0 = pure PIC
   // FlipPic: the `flip` blend; Apic, Tpic: the particles carry an affine velocity
   // (core/kernels/AffineTransfer.hpp), with the lumped projection only (projectionIterations 0);
   // Xpic: XPIC(xpicOrder), FLIP from an extrapolated old velocity (solvers/XpicExtrapolation.hpp).

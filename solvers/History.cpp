@@ -14,8 +14,13 @@ namespace impm {
 History::History(std::vector<Monitor>& monitors, const ParticleSet& particles, const Materials& materials,
                  const ExactReference* exact, bool energyAndMomentum,
                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm, double firstTime, const GridConditions* conditions)
-    : monitors_(monitors), particles_(particles), materials_(materials), exact_(exact), energy_(energyAndMomentum),
-      comm_(comm), conditions_(conditions) {
+    : monitors_(monitors),
+      particles_(particles),
+      materials_(materials),
+      exact_(exact),
+      energy_(energyAndMomentum),
+      comm_(comm),
+      conditions_(conditions) {
   if (conditions_) {
     for (size_t c = 0; c < conditions_->names().size(); ++c) {
       std::string name = conditions_->names()[c];
@@ -44,7 +49,9 @@ void History::open(const std::string& path, int digits) {
     csv_ << ',' << monitors_[k].name;
     if (withExact_[k]) csv_ << ',' << monitors_[k].name << "_exact";
   }
-  if (energy_) csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y" << (particles_.dim == 3 ? ",momentum_z" : "");
+  if (energy_)
+    csv_ << ",kinetic_energy,strain_energy,total_energy,momentum_x,momentum_y"
+         << (particles_.dim == 3 ? ",momentum_z" : "");
   if (field_) csv_ << ",displacement_error_rms,displacement_error_max";
   for (const auto& c : reactionColumns_) csv_ << ',' << c;
   csv_ << '\n' << std::setprecision(digits);
@@ -92,8 +99,9 @@ void History::record(double t, RunResult& r) {
     }
   }
   if (energy_) {
-    const ParticleTotals e = particles_.dim == 3 ? particleTotals<ExecutionSpace, 3>(particles_, materials_.law(), *comm_)
-                                                 : particleTotals<ExecutionSpace, 2>(particles_, materials_.law(), *comm_);
+    const ParticleTotals e = particles_.dim == 3
+                                 ? particleTotals<ExecutionSpace, 3>(particles_, materials_.law(), *comm_)
+                                 : particleTotals<ExecutionSpace, 2>(particles_, materials_.law(), *comm_);
     r.kinetic.push_back(e.kinetic);
     r.strain.push_back(e.strain);
     r.momentumX.push_back(e.momentum[0]);
@@ -109,7 +117,8 @@ void History::record(double t, RunResult& r) {
   if (!reactionColumns_.empty()) {
     const std::vector<double> reaction = conditions_->reactions(*comm_);
     r.reactionColumns = reactionColumns_;
-    for (size_t k = 0; k < reactionColumns_.size(); ++k) r.reactions[reactionColumns_[k]].push_back(reaction[reactionIndex_[k]]);
+    for (size_t k = 0; k < reactionColumns_.size(); ++k)
+      r.reactions[reactionColumns_[k]].push_back(reaction[reactionIndex_[k]]);
   }
   if (comm_->getRank() == 0) writeRow(r, r.time.size() - 1);
 }
@@ -122,8 +131,8 @@ void History::writeRow(const RunResult& r, size_t i) {
   }
   if (energy_) {
     // (kinetic + strain: ParticleTotals::total().)
-    csv_ << ',' << r.kinetic[i] << ',' << r.strain[i] << ',' << r.kinetic[i] + r.strain[i] << ',' << r.momentumX[i] << ','
-         << r.momentumY[i];
+    csv_ << ',' << r.kinetic[i] << ',' << r.strain[i] << ',' << r.kinetic[i] + r.strain[i] << ',' << r.momentumX[i]
+         << ',' << r.momentumY[i];
     if (particles_.dim == 3) csv_ << ',' << r.momentumZ[i];
   }
   if (field_) csv_ << ',' << r.fieldErrorRms[i] << ',' << r.fieldErrorMax[i];
@@ -174,7 +183,8 @@ void History::restoreState(const NamedArrays& state, RunResult& r) {
 
 std::pair<double, double> History::displacementFieldError(double t) const {
   const int dim = particles_.dim;
-  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.fixedPositions() ? particles_.u : particles_.x);
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(),
+                                               particles_.fixedPositions() ? particles_.u : particles_.x);
   auto x0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x0);
   auto v0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.volume0);
   auto body = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.body);
@@ -206,7 +216,10 @@ void History::finish(RunResult& r) const {
     const auto& c = r.computed[monitors_[k].name];
     const auto& e = r.exact[monitors_[k].name];
     double num = 0, den = 0;
-    for (size_t i = 0; i < c.size(); ++i) { num += (c[i] - e[i]) * (c[i] - e[i]); den += e[i] * e[i]; }
+    for (size_t i = 0; i < c.size(); ++i) {
+      num += (c[i] - e[i]) * (c[i] - e[i]);
+      den += e[i] * e[i];
+    }
     r.relativeL2[monitors_[k].name] = den > 0 ? std::sqrt(num / den) : std::sqrt(num);
   }
   if (!r.fieldErrorRms.empty()) {
@@ -223,11 +236,12 @@ void History::finish(RunResult& r) const {
     // Bodies at rest: the change is absolute.
     const double pscale = momentumScale_ > 0 ? momentumScale_ : 1.0;
     for (size_t i = 0; i < r.time.size(); ++i) {
-      r.energyMaxRelativeDeviation = std::max(r.energyMaxRelativeDeviation, std::abs(r.kinetic[i] + r.strain[i] - e0) / scale);
-      r.momentumMaxRelativeChange =
-          std::max(r.momentumMaxRelativeChange,
-                   std::sqrt(std::pow(r.momentumX[i] - p0x, 2) + std::pow(r.momentumY[i] - p0y, 2) + std::pow(r.momentumZ[i] - p0z, 2)) /
-                       pscale);
+      r.energyMaxRelativeDeviation =
+          std::max(r.energyMaxRelativeDeviation, std::abs(r.kinetic[i] + r.strain[i] - e0) / scale);
+      r.momentumMaxRelativeChange = std::max(
+          r.momentumMaxRelativeChange, std::sqrt(std::pow(r.momentumX[i] - p0x, 2) + std::pow(r.momentumY[i] - p0y, 2) +
+                                                 std::pow(r.momentumZ[i] - p0z, 2)) /
+                                           pscale);
     }
   }
 }

@@ -24,9 +24,9 @@ namespace impm {
 // its global id.
 struct Monitor {
   std::string name, quantity;
-  long long particleId = -1;  // global id of the particle
-  int owner = -1;             // rank that holds the particle
-  int localIndex = -1;        // its index on that rank
+  long long particleId = -1;      // global id of the particle
+  int owner = -1;                 // rank that holds the particle
+  int localIndex = -1;            // its index on that rank
   double x0 = 0, y0 = 0, z0 = 0;  // its reference position (where the exact solution is evaluated)
 };
 

@@ -26,9 +26,8 @@ class ProjectionCorrection {
   // Corrects columns momCol.. (Dim of them) of `owned` (the particle sums m f) in place, with the
   // node masses in massCol; `particleField` is f_p (ps.v or ps.a), `prescribed` its value at the
   // grid conditions' dofs.
-  void apply(MultiVector& owned, int massCol, int momCol, const ParticleSet& ps,
-             const ParticleSet::Vec& particleField, const GridConditions& conditions, PrescribedField prescribed,
-             double massCutoff, int iterations) const {
+  void apply(MultiVector& owned, int massCol, int momCol, const ParticleSet& ps, const ParticleSet::Vec& particleField,
+             const GridConditions& conditions, PrescribedField prescribed, double massCutoff, int iterations) const {
     for (int it = 0; it < iterations; ++it) {
       {
         auto s = owned.getLocalViewDevice(Tpetra::Access::ReadOnly);
@@ -47,7 +46,7 @@ class ProjectionCorrection {
         auto f = fieldGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
         auto r = residualGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
         particleToGridProjectionResidual<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps, f, 0, r, 0,
-                                                      particleField);
+                                                           particleField);
       }
       residualOwned_->putScalar(0.0);
       residualOwned_->doExport(*residualGhosted_, *dist_.importer(), Tpetra::ADD);

@@ -1,6 +1,6 @@
 // Simulation, part 2: the run loop (time steps, audits, particle migration and load balance; the
-// outputs are its observers, solvers/run/RunObservers.hpp). Part 1 (SimulationBuilder.cpp) built the objects from the deck; part 3
-// (SimulationSummary.cpp) writes summary.yaml.
+// outputs are its observers, solvers/run/RunObservers.hpp). Part 1 (SimulationBuilder.cpp) built the objects from the
+// deck; part 3 (SimulationSummary.cpp) writes summary.yaml.
 #include "solvers/Simulation.hpp"
 #include "core/ShapeRegistry.hpp"
 
@@ -119,9 +119,17 @@ struct AuditParticles {
 }  // namespace
 
 Simulation::ParticleAudit Simulation::auditParticles() const {
-  const AuditParticles audit{particles_.x, particles_.halfSize, particles_.v, particles_.stress, particles_.volume,
-                             particles_.material, materials_.law(), ParticleReach(grid_, dist_->ghostedIndexer()),
-                             particles_.dim, particles_.stressCount(), particles_.fixedPositions()};
+  const AuditParticles audit{particles_.x,
+                             particles_.halfSize,
+                             particles_.v,
+                             particles_.stress,
+                             particles_.volume,
+                             particles_.material,
+                             materials_.law(),
+                             ParticleReach(grid_, dist_->ghostedIndexer()),
+                             particles_.dim,
+                             particles_.stressCount(),
+                             particles_.fixedPositions()};
   ParticleAudit local;
   Kokkos::parallel_reduce("particle_audit", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count), audit, local);
   ParticleAudit global;
@@ -134,9 +142,10 @@ void Simulation::checkParticlesInReach(double t) const { reportParticlesOutOfRea
 
 void Simulation::reportParticlesOutOfReach(int total, double t) const {
   if (total > 0)
-    throw ParticlesOutOfReach(std::to_string(total) + " particle(s) left the grid or the nodes their MPI rank maps at t = " +
-                                  formatNumber(t) + " s",
-                              "use a larger grid");
+    throw ParticlesOutOfReach(
+        std::to_string(total) +
+            " particle(s) left the grid or the nodes their MPI rank maps at t = " + formatNumber(t) + " s",
+        "use a larger grid");
   if (shapeInfo(shape_).cornerDomains) checkCpdiDomainsInReach(t);
 }
 
@@ -153,16 +162,20 @@ void Simulation::checkCpdiDomainsInReach(double t) const {
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, mine, Teuchos::outArg(first));
   throw ParticlesOutOfReach(
       "at t = " + formatNumber(t) + " s the CPDI domain of particle " + std::to_string(first) + " (global id) " +
-          (total[0] > 0 ? "spans more than 3 cells in a direction (its corners x_p +- F l0 e_i need more than 4 nodes; " +
-                              std::to_string(total[0]) + " particle(s))"
-                        : "reaches beyond the node columns its MPI rank maps (" + std::to_string(total[1]) + " particle(s))"),
+          (total[0] > 0
+               ? "spans more than 3 cells in a direction (its corners x_p +- F l0 e_i need more than 4 nodes; " +
+                     std::to_string(total[0]) + " particle(s))"
+               : "reaches beyond the node columns its MPI rank maps (" + std::to_string(total[1]) + " particle(s))"),
       total[0] > 0 ? "use more particles per cell or a coarser grid" : "use fewer MPI ranks");
 }
 
 std::string Simulation::describeBadParticle() const {
   // The lowest global id among the particles with a non-finite state or det F <= 0, over all
   // ranks; then its owner describes it.
-  auto v = particles_.v; auto stress = particles_.stress; auto V = particles_.volume; auto id = particles_.id;
+  auto v = particles_.v;
+  auto stress = particles_.stress;
+  auto V = particles_.volume;
+  auto id = particles_.id;
   const int dim = particles_.dim, ns = particles_.stressCount();
   const bool fixedVolumes = particles_.fixedPositions();
   long long localFirst = std::numeric_limits<long long>::max();
@@ -217,17 +230,20 @@ std::string Simulation::timeStepAdvice() const {
   if (criticalStep_ <= 0) return "reduce " + step;
   if (dt_ > criticalStep_)
     return "reduce " + step + ": it is " + formatNumber(dt_ / criticalStep_) + " times the stable step " +
-           formatNumber(criticalStep_) + " s of these cells and particles, allowed by 'Integrator/Explicit/Stability Factor' = " +
+           formatNumber(criticalStep_) +
+           " s of these cells and particles, allowed by 'Integrator/Explicit/Stability Factor' = " +
            formatNumber(deck_.sublist("Integrator").sublist("Explicit").get<double>("Stability Factor")) +
            " (keep it at most 1)";
-  std::string advice = "reduce " + step + " (the stable step of these cells and particles is " + formatNumber(criticalStep_) + " s)";
+  std::string advice =
+      "reduce " + step + " (the stable step of these cells and particles is " + formatNumber(criticalStep_) + " s)";
   // Within the stable step, linear MPM with USL still inverts a particle that crosses alone into
-  // a cell (its far nodes' tiny mass takes a huge velocity; doc/method.md, "Cell crossing: MPM against GIMP"): a smaller
-  // step only makes that rarer.
+  // a cell (its far nodes' tiny mass takes a huge velocity; doc/method.md, "Cell crossing: MPM against GIMP"): a
+  // smaller step only makes that rarer.
   if (shape_ == "MPM" && deck_.sublist("Integrator").sublist("Explicit").get<std::string>("Update Scheme") == "USL")
-    advice += ", or, if a particle crossed a cell line alone (impact, a moving free surface), use 'Method/Shape Function' = "
-              "GIMP (or cpGIMP, CPDI, a B-spline) or 'Integrator/Explicit/Update Scheme' = MUSL: linear MPM with USL "
-              "can invert such a particle at any time step";
+    advice +=
+        ", or, if a particle crossed a cell line alone (impact, a moving free surface), use 'Method/Shape Function' = "
+        "GIMP (or cpGIMP, CPDI, a B-spline) or 'Integrator/Explicit/Update Scheme' = MUSL: linear MPM with USL "
+        "can invert such a particle at any time step";
   return advice;
 }
 
@@ -268,11 +284,13 @@ RunResult Simulation::run(std::ostream& log) {
     r.steps = failedStep - 1;
     r.wallSeconds = std::chrono::duration<double>(clock::now() - start).count();
     observers.fail({failedStep, stepNotTaken}, r);
-    std::string where = "; history.csv (to step " + std::to_string(historyOutput.lastRecordedStep()) + ") and summary.yaml";
+    std::string where =
+        "; history.csv (to step " + std::to_string(historyOutput.lastRecordedStep()) + ") and summary.yaml";
     if (r.lastGoodStep >= 0)
-      where += ", and the last good state (step " + std::to_string(r.lastGoodStep) + ", t = " + formatNumber(r.lastGoodTime) +
-               " s) as " + r.lastGoodFile + "_r*.vtu,";
-    return std::runtime_error(reason + (advice.empty() ? std::string() : "; " + advice) + where + " are in " + outputDir_);
+      where += ", and the last good state (step " + std::to_string(r.lastGoodStep) +
+               ", t = " + formatNumber(r.lastGoodTime) + " s) as " + r.lastGoodFile + "_r*.vtu,";
+    return std::runtime_error(reason + (advice.empty() ? std::string() : "; " + advice) + where + " are in " +
+                              outputDir_);
   };
 
   for (int n = firstStep; n < steps_; ++n) {
@@ -308,12 +326,13 @@ RunResult Simulation::run(std::ostream& log) {
 const HistoryOutput& Simulation::addObservers(RunObservers& observers, History& history) {
   const ParameterList& out = deck_.sublist("Output");
   const int historyInterval = out.get<int>("History Interval");  // >= 1, checked by the builder
-  auto& historyOutput = observers.add(
-      std::make_unique<HistoryOutput>(history, restarted_, restartState_, historyInterval, steps_, dt_));
-  observers.add(std::make_unique<ParticleOutput>(particles_, comm_, outputDir_, restarted_, out.get<int>("VTK Interval"),
-                                                 historyInterval, steps_, dt_));
+  auto& historyOutput =
+      observers.add(std::make_unique<HistoryOutput>(history, restarted_, restartState_, historyInterval, steps_, dt_));
+  observers.add(std::make_unique<ParticleOutput>(particles_, comm_, outputDir_, restarted_,
+                                                 out.get<int>("VTK Interval"), historyInterval, steps_, dt_));
   observers.add(std::make_unique<CheckpointOutput>(
-      out.get<int>("Checkpoint Interval"), [this, &history](int step, const RunResult& result) { writeCheckpointAt(step, result, history); }));
+      out.get<int>("Checkpoint Interval"),
+      [this, &history](int step, const RunResult& result) { writeCheckpointAt(step, result, history); }));
   observers.add(std::make_unique<ProgressLine>(out.get<bool>("Progress") && comm_->getRank() == 0, steps_));
   observers.add(std::make_unique<SummaryOutput>(comm_, [this](const RunResult& result) { writeSummary(result); }));
   return historyOutput;
@@ -349,8 +368,10 @@ void Simulation::redistribute(int step, const ParticleAudit& audit, History& his
     balanceLoad(history, r);
     particlesMoved = particlesMoved || r.rebalances != before;
   }
-  if (particlesMoved) checkParticlesInReach(step * dt_);
-  else reportParticlesOutOfReach(audit.outOfReach, step * dt_);
+  if (particlesMoved)
+    checkParticlesInReach(step * dt_);
+  else
+    reportParticlesOutOfReach(audit.outOfReach, step * dt_);
 }
 
 // Rank 0 creates the directory (checked when the deck was read); a failure ends every rank.
@@ -369,7 +390,8 @@ std::string Simulation::divergenceMessage(double divergence, int step, double t)
     const std::string which = describeBadParticle();
     why = which.empty() ? std::string("a particle velocity or stress is not finite") : which;
   } else {
-    why = "a particle stress is " + formatNumber(divergence) + " times its material's P-wave modulus (a strain of order one)";
+    why = "a particle stress is " + formatNumber(divergence) +
+          " times its material's P-wave modulus (a strain of order one)";
   }
   return "the run diverged at step " + std::to_string(step) + " (t = " + formatNumber(t) + " s): " + why;
 }
@@ -377,8 +399,8 @@ std::string Simulation::divergenceMessage(double divergence, int step, double t)
 // The closing lines: the run, its errors against the exact solution, the energy drift.
 void Simulation::reportRun(const RunResult& r, std::ostream& log) const {
   log << deck_.sublist("Problem").get<std::string>("Name") << ": " << integrator_->name() << ", "
-      << materials_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in " << std::setprecision(3)
-      << r.wallSeconds << " s (" << r.particleStepsPerSecond / 1e6 << " M particle-steps/s)\n";
+      << materials_.planeName() << ", " << r.particles << " particles, " << steps_ << " steps in "
+      << std::setprecision(3) << r.wallSeconds << " s (" << r.particleStepsPerSecond / 1e6 << " M particle-steps/s)\n";
   for (const auto& [name, err] : r.relativeL2)
     log << "  relative L2 error of " << name << " against the exact solution (modulus " << std::setprecision(4)
         << exactModulus() << " Pa): " << std::setprecision(3) << 100 * err << " %\n";

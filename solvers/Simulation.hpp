@@ -34,12 +34,13 @@ using Point = std::array<double, 3>;
 struct ExplicitOptions;  // solvers/ExplicitStepper.hpp
 struct ImplicitOptions;  // solvers/implicit/ImplicitNewmark.hpp
 class HistoryOutput;     // solvers/run/RunObservers.hpp
-class RunObservers;  // (x, y, z); z = 0 in 2D
+class RunObservers;      // (x, y, z); z = 0 in 2D
 
 // Particles out of the grid (or of their rank's nodes), or a CPDI domain beyond its stencil: the
 // run stops (Simulation::run's failure contract). `advice` says what to change.
 struct ParticlesOutOfReach : std::runtime_error {
-  ParticlesOutOfReach(const std::string& what, std::string advice) : std::runtime_error(what), advice(std::move(advice)) {}
+  ParticlesOutOfReach(const std::string& what, std::string advice)
+      : std::runtime_error(what), advice(std::move(advice)) {}
   std::string advice;
 };
 
@@ -174,8 +175,8 @@ class Simulation {
   std::vector<std::string> materialNames_;
   std::vector<BodySpec> bodies_;
   std::vector<double> estimatedBodyParticles_, estimatedBodyCells_;  // per body, for checkProblemSize
-  std::string shape_;  // Method/Shape Function
-  bool fbar_ = false;  // Method/Volumetric Locking = F-bar
+  std::string shape_;                                                // Method/Shape Function
+  bool fbar_ = false;                                                // Method/Volumetric Locking = F-bar
   Placement placement_ = Placement::Lattice;
   std::unique_ptr<GridDistribution> dist_;
   int migrationSlack_ = 0;  // Decomposition/Migration Slack Cells
@@ -196,7 +197,8 @@ class Simulation {
   std::unique_ptr<ExactReference> exact_;
   std::unique_ptr<AxisAlignedManufactured> manufactured_;  // Exact Solution/Type = Axis-Aligned Manufactured Solution
   double dt_ = 0;
-  double criticalStep_ = 0;  // explicit: 0.7 / (c_p sqrt(1/hx^2 + 1/hy^2 [+ 1/hz^2])) (Stability Factor 1); 0 for implicit runs
+  double criticalStep_ =
+      0;  // explicit: 0.7 / (c_p sqrt(1/hx^2 + 1/hy^2 [+ 1/hz^2])) (Stability Factor 1); 0 for implicit runs
   int steps_ = 0;
   bool energyHistory_ = false;
   // Restart (restartFrom): the step run() starts at and the checkpoint's history rows.

@@ -22,20 +22,20 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   readProblem(outputOverride);  // ProblemSection.cpp
   readGrid();                   // GridSection.cpp
   readMethod();
-  buildMaterials();             // MaterialsSection.cpp
-  buildBodies();                // BodiesSection.cpp
-  readTime();                   // IntegratorSection.cpp
-  checkOutputIntervals();       // ProblemSection.cpp
+  buildMaterials();        // MaterialsSection.cpp
+  buildBodies();           // BodiesSection.cpp
+  readTime();              // IntegratorSection.cpp
+  checkOutputIntervals();  // ProblemSection.cpp
   checkProblemSize(deck_.sublist("Integrator").get<std::string>("Type") == "Implicit");
   std::vector<ConstraintSpec> cspecs = buildConstraints();  // ConditionsSection.cpp
-  distribute();                 // GridSection.cpp (Decomposition)
+  distribute();                                             // GridSection.cpp (Decomposition)
   createParticlesAndConditions(cspecs);
-  readManufacturedSolution();   // MonitorsSection.cpp (Exact Solution)
-  applyInitialConditions();     // IntegratorSection.cpp
+  readManufacturedSolution();                   // MonitorsSection.cpp (Exact Solution)
+  applyInitialConditions();                     // IntegratorSection.cpp
   std::vector<LoadSpec> lspecs = buildLoads();  // ConditionsSection.cpp
-  buildMonitors();              // MonitorsSection.cpp
+  buildMonitors();                              // MonitorsSection.cpp
   buildExactSolution(cspecs, lspecs);
-  buildIntegrator();            // IntegratorSection.cpp
+  buildIntegrator();  // IntegratorSection.cpp
 }
 
 // The bodies' particles on their ranks, then the grid conditions on them.
@@ -65,8 +65,9 @@ void Simulation::applyGeostaticStresses() {
     double highest = local;
     Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, local, Teuchos::outArg(highest));
     if (highest > body.surfaceY)
-      throw DeckError("'" + key + "/Surface Y' = " + formatNumber(body.surfaceY) + " lies below the body's highest particle at y = " +
-                      formatNumber(highest) + " (the overburden would pull)");
+      throw DeckError("'" + key + "/Surface Y' = " + formatNumber(body.surfaceY) +
+                      " lies below the body's highest particle at y = " + formatNumber(highest) +
+                      " (the overburden would pull)");
   }
 }
 

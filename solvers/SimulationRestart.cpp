@@ -13,7 +13,8 @@ void Simulation::writeCheckpointAt(int step, const RunResult& r, const History& 
   c.time = step * dt_;
   const int n = particles_.count;
   ParticleSet::Ids all("checkpoint_indices", n);
-  Kokkos::parallel_for("iota", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int p) { all(p) = p; });
+  Kokkos::parallel_for(
+      "iota", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int p) { all(p) = p; });
   c.particles = ParticleSet::Packed(Kokkos::view_alloc(Kokkos::WithoutInitializing, "checkpoint_rows"), n,
                                     particles_.packedWidth());
   particles_.pack(all, c.particles);
@@ -34,7 +35,8 @@ void Simulation::restartFrom(const std::string& dir) {
                           ", beyond this deck's 'Integrator/Number of Steps' = " + std::to_string(steps_));
   // Output may differ from the run that wrote it, but energy columns cannot start half-way.
   if (energyHistory_ && c.state["history kinetic"].size() != c.state["history time"].size())
-    throw CheckpointError("--restart '" + dir + "': the run that wrote the checkpoint recorded no energy and momentum; "
+    throw CheckpointError("--restart '" + dir +
+                          "': the run that wrote the checkpoint recorded no energy and momentum; "
                           "set 'Output/Energy And Momentum' to false, as it was there");
   // In place of the deck's initial particles (the views keep their kind: FE reference u, history).
   particles_.count = 0;

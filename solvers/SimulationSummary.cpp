@@ -21,7 +21,8 @@ void addFailure(ParameterList& s, const RunResult& r) {
     d.set("Reason", r.failureReason);
     d.set("Last Good Step", r.lastGoodStep);
     d.set("Last Good Time", r.lastGoodTime);
-    d.set("Last Good State", r.lastGoodFile.empty() ? std::string("none") : r.lastGoodFile + "_r*.vtu (in particles.pvd)");
+    d.set("Last Good State",
+          r.lastGoodFile.empty() ? std::string("none") : r.lastGoodFile + "_r*.vtu (in particles.pvd)");
   }
 }
 

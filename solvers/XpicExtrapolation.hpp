@@ -46,7 +46,8 @@ class XpicExtrapolation {
       Kokkos::parallel_for(
           "xpic_start", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
             const double m = s(n, massCol);
-            for (int d = 0; d < Dim; ++d) term(n, d) = m > massCutoff ? (velocity ? s(n, col + d) : s(n, col + d) / m) : 0.0;
+            for (int d = 0; d < Dim; ++d)
+              term(n, d) = m > massCutoff ? (velocity ? s(n, col + d) : s(n, col + d) / m) : 0.0;
           });
       conditions.template write<Exec>(term, 0, PrescribedField::StartVelocity);
     }

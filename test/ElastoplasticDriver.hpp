@@ -58,7 +58,7 @@ void kirchhoffAfter(const ElastoplasticDriver<Dim>& d, const double (&G)[Dim][Di
 // the increment yields, and `fromElastic` the largest |D - D_elastic| / mu.
 template <int Dim>
 double tangentMismatch(const ElastoplasticDriver<Dim>& d, const double (&G)[Dim][Dim], double mu, bool& plastic,
-                         double& fromElastic) {
+                       double& fromElastic) {
   using SL = StressLayout<Dim>;
   double f[Dim][Dim], F[Dim][Dim], tau[SL::count];
   for (int i = 0; i < Dim; ++i)
@@ -86,8 +86,10 @@ double tangentMismatch(const ElastoplasticDriver<Dim>& d, const double (&G)[Dim]
     const bool symmetric = v < SL::voigt;
     if (symmetric) {
       const int i = SL::first(v), j = SL::second(v);
-      if (i == j) L[i][i] = 1.0;
-      else L[i][j] = L[j][i] = 0.5;
+      if (i == j)
+        L[i][i] = 1.0;
+      else
+        L[i][j] = L[j][i] = 0.5;
     } else {
       const int w = v - SL::voigt, i = w == 2 ? 1 : 0, j = w == 0 ? 1 : 2;
       L[i][j] = 0.5;

@@ -53,14 +53,22 @@ std::pair<double, double> affineRoundTrip(ParticleTransfer transfer) {
   using K = KinColumns<Dim>;
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
-  g.nx = 12; g.ny = 10; g.hx = 0.25; g.hy = 0.2;
+  g.nx = 12;
+  g.ny = 10;
+  g.hx = 0.25;
+  g.hy = 0.2;
   RectangularBody body{0.75, 2.25, 0.6, 1.4, 2, 2, 0.1};
   if (Dim == 3) {
-    g.dim = 3; g.nz = 9; g.hz = 0.3;
-    body.zMin = 0.9; body.zMax = 1.8; body.particlesPerCellZ = 2;
+    g.dim = 3;
+    g.nz = 9;
+    g.hz = 0.3;
+    body.zMin = 0.9;
+    body.zMax = 1.8;
+    body.particlesPerCellZ = 2;
   }
   GridDistribution dist(g, comm);
-  Materials mat(std::vector<MaterialParameters>{{1e6, 0.25, 1000.0}}, Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStrain);
+  Materials mat(std::vector<MaterialParameters>{{1e6, 0.25, 1000.0}},
+                Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
   ps.allocateAffine();
   std::mt19937 rng(7 + comm->getRank());
@@ -92,13 +100,14 @@ std::pair<double, double> affineRoundTrip(ParticleTransfer transfer) {
   {
     auto acc = f.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto kinv = f.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
-    Kokkos::parallel_for("test_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-      const double mn = acc(n, A::Mass);
-      for (int d = 0; d < Dim; ++d) {
-        kinv(n, K::VelX + d) = mn > 0 ? acc(n, A::MomX + d) / mn : 0.0;
-        kinv(n, K::AccX + d) = 0.0;
-      }
-    });
+    Kokkos::parallel_for(
+        "test_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
+          const double mn = acc(n, A::Mass);
+          for (int d = 0; d < Dim; ++d) {
+            kinv(n, K::VelX + d) = mn > 0 ? acc(n, A::MomX + d) / mn : 0.0;
+            kinv(n, K::AccX + d) = 0.0;
+          }
+        });
   }
   f.importKinematics();
   {
@@ -157,8 +166,15 @@ TEUCHOS_UNIT_TEST(AffineRoundTrip, CubicBSpline3d) { checkAffineRoundTrip<CubicB
 template <class Shape, int Dim>
 void checkConstantInertia(Teuchos::FancyOStream& out, bool& success) {
   StructuredGrid g;
-  g.nx = 12; g.ny = 12; g.hx = 0.25; g.hy = 0.2;
-  if (Dim == 3) { g.dim = 3; g.nz = 12; g.hz = 0.3; }
+  g.nx = 12;
+  g.ny = 12;
+  g.hx = 0.25;
+  g.hy = 0.2;
+  if (Dim == 3) {
+    g.dim = 3;
+    g.nz = 12;
+    g.hz = 0.3;
+  }
   const double fractions[4][3] = {{4.0, 5.0, 6.0}, {4.3, 5.71, 6.05}, {5.5, 4.999, 6.5}, {6.87, 7.12, 4.41}};
   double worst = 0.0;
   for (const auto& frac : fractions) {
@@ -322,8 +338,8 @@ TEUCHOS_UNIT_TEST(SpinningDisk, RankCountIndependent) {
     auto self = comm->split(comm->getRank(), 0);
     const Spin one = spinDisk(diskDeck(transfer, 1.0, 1500), self, name + "_rank" + std::to_string(comm->getRank()));
     const double difference = std::abs(all.final - one.final) / all.initial;
-    out << transfer << ": angular momentum after 1500 steps, np " << comm->getSize() << " against np 1: relative difference "
-        << difference << "\n";
+    out << transfer << ": angular momentum after 1500 steps, np " << comm->getSize()
+        << " against np 1: relative difference " << difference << "\n";
     TEST_COMPARE(difference, <, 1e-10);
   }
 }
@@ -336,7 +352,8 @@ TEUCHOS_UNIT_TEST(Xpic, OrderOneIsPic) {
   const Spin pic = spinDisk(diskDeck("FLIP/PIC", 0.0, 400), comm, "test_output/spinning_disk_pic400", 400);
   const Spin xpic2 = spinDisk(diskDeck("XPIC", 1.0, 400, 2), comm, "test_output/spinning_disk_xpic2", 400);
   out << "400 steps: angular momentum XPIC(1) " << xpic1.final << ", PIC " << pic.final << ", XPIC(2) " << xpic2.final
-      << " (initial " << pic.initial << "); kinetic energy XPIC(1) " << xpic1.kinetic << ", PIC " << pic.kinetic << "\n";
+      << " (initial " << pic.initial << "); kinetic energy XPIC(1) " << xpic1.kinetic << ", PIC " << pic.kinetic
+      << "\n";
   TEST_FLOATING_EQUALITY(xpic1.final, pic.final, 1e-10);
   TEST_FLOATING_EQUALITY(xpic1.kinetic, pic.kinetic, 1e-10);
   // A second order keeps measurably more of the spin than PIC.
@@ -350,7 +367,8 @@ TEUCHOS_UNIT_TEST(SpinningDisk, EveryUpdateScheme) {
     auto run = [&](const std::string& transfer, double flip) {
       ParameterList deck = diskDeck(transfer, flip, 500);
       deck.sublist("Integrator").sublist("Explicit").set("Update Scheme", scheme);
-      return spinDisk(deck, comm, "test_output/spinning_disk_" + scheme + "_" + transfer + std::to_string(int(flip)), 500);
+      return spinDisk(deck, comm, "test_output/spinning_disk_" + scheme + "_" + transfer + std::to_string(int(flip)),
+                      500);
     };
     const Spin apic = run("APIC", 1.0), tpic = run("TPIC", 1.0), xpic = run("XPIC", 1.0), pic = run("FLIP/PIC", 0.0);
     out << scheme << ", 500 steps: relative loss of angular momentum APIC " << apic.relativeLoss() << ", TPIC "
@@ -424,7 +442,8 @@ TEUCHOS_UNIT_TEST(SpinningBox, ThreeDimensionsAboutX) {
   };
   const Spin apic = run("APIC", 1.0), tpic = run("TPIC", 1.0), pic = run("FLIP/PIC", 0.0), xpic = run("XPIC", 1.0);
   out << "3D box about x, 300 steps: L_x(0) " << apic.initial << " kg m^2/s; relative loss APIC " << apic.relativeLoss()
-      << ", TPIC " << tpic.relativeLoss() << ", PIC " << pic.relativeLoss() << ", XPIC(5) " << xpic.relativeLoss() << "\n";
+      << ", TPIC " << tpic.relativeLoss() << ", PIC " << pic.relativeLoss() << ", XPIC(5) " << xpic.relativeLoss()
+      << "\n";
   TEST_EQUALITY_CONST(xpic.status, "completed");
   TEST_COMPARE(xpic.relativeLoss(), <, 0.5 * pic.relativeLoss());
   // L_x = omega sum m (y^2 + z^2): the box's m (b^2 + c^2) / 12 = 54.6, less the midpoint rule's
@@ -451,8 +470,8 @@ TEUCHOS_UNIT_TEST(ImplicitTransfers, SpinningDiskQuarterRevolution) {
   const Spin apic = spinDiskImplicit("APIC", "test_output/spinning_disk_implicit_apic");
   const Spin tpic = spinDiskImplicit("TPIC", "test_output/spinning_disk_implicit_tpic");
   out << "implicit spinning disk, a quarter revolution: relative loss of angular momentum FLIP " << flip.relativeLoss()
-      << ", APIC " << apic.relativeLoss() << ", TPIC " << tpic.relativeLoss() << "; kinetic energy FLIP " << flip.kinetic
-      << ", APIC " << apic.kinetic << ", TPIC " << tpic.kinetic << "\n";
+      << ", APIC " << apic.relativeLoss() << ", TPIC " << tpic.relativeLoss() << "; kinetic energy FLIP "
+      << flip.kinetic << ", APIC " << apic.kinetic << ", TPIC " << tpic.kinetic << "\n";
   for (const Spin* s : {&flip, &apic, &tpic}) TEST_EQUALITY_CONST(s->status, "completed");
   // Measured: FLIP 3.6e-3, APIC 3.8e-5, TPIC 4.1e-5 (the affine transfers' loss is the Newton
   // tolerance's, not the transfers').

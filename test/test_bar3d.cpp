@@ -25,7 +25,8 @@ namespace {
 using Teuchos::ParameterList;
 
 ParameterList bar3dDeck(const std::string& kind, const std::string& shape, const std::string& outdir) {
-  auto deck = Teuchos::getParametersFromYamlFile(std::string(IMPM_SOURCE_DIR) + "/apps/bar3d_" + kind + "_" + shape + ".yaml");
+  auto deck =
+      Teuchos::getParametersFromYamlFile(std::string(IMPM_SOURCE_DIR) + "/apps/bar3d_" + kind + "_" + shape + ".yaml");
   ParameterList d = *deck;
   d.sublist("Problem").set("Output Directory", outdir);
   auto& b = d.sublist("Bodies").sublist("bar");
@@ -34,7 +35,11 @@ ParameterList bar3dDeck(const std::string& kind, const std::string& shape, const
   // front still takes 5 steps per cell).
   const bool implicit = kind == "implicit";
   d.sublist("Integrator").set("Time Step", implicit ? 4e-8 : 1e-8).set("Number of Steps", implicit ? 500 : 4000);
-  d.sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0).set("History Interval", implicit ? 5 : 20);
+  d.sublist("Output")
+      .set("Plot", false)
+      .set("Progress", false)
+      .set("VTK Interval", 0)
+      .set("History Interval", implicit ? 5 : 20);
   return d;
 }
 
@@ -47,7 +52,8 @@ impm::RunResult run(ParameterList d, const Teuchos::RCP<const Teuchos::Comm<int>
 
 // Relative L2 error of the tip displacement against the 1D exact solution at E, and, on more
 // than one rank, the largest difference between the distributed and the one-rank histories.
-void check(const std::string& kind, const std::string& shape, double tolerance, Teuchos::FancyOStream& out, bool& success) {
+void check(const std::string& kind, const std::string& shape, double tolerance, Teuchos::FancyOStream& out,
+           bool& success) {
   auto comm = Tpetra::getDefaultComm();
   const std::string tag = kind + "_" + shape;
   const impm::RunResult r = run(bar3dDeck(kind, shape, "test_output/bar3d_" + tag), comm);
@@ -68,7 +74,8 @@ void check(const std::string& kind, const std::string& shape, double tolerance, 
       for (size_t k = 0; k < std::min(values.size(), ref.size()); ++k)
         worst = std::max(worst, std::abs(values[k] - ref[k]) / scale);
     }
-    out << "  np " << comm->getSize() << " against np 1: largest difference " << worst << " of each monitor's amplitude\n";
+    out << "  np " << comm->getSize() << " against np 1: largest difference " << worst
+        << " of each monitor's amplitude\n";
     TEST_COMPARE(worst, <, 1e-10);
   }
 }
@@ -93,7 +100,9 @@ namespace {
 TEUCHOS_UNIT_TEST(Bar3d, BoxWithDefaultZSpansTheGrid) {
   impm::StructuredGrid g;
   g.dim = 3;
-  g.nx = 4; g.ny = 3; g.nz = 5;
+  g.nx = 4;
+  g.ny = 3;
+  g.nz = 5;
   g.hx = g.hy = g.hz = 0.5;
   const auto all = impm::boxNodes(g, 0.0, 0.0, 0.0, 1.5, -1e300, 1e300);
   TEST_EQUALITY_CONST(all.size(), size_t(1 * 4 * 6));  // x = 0, 4 nodes in y, 6 in z
@@ -110,8 +119,10 @@ namespace {
 
 // apps/rod_impact_3d_explicit_gimp.yaml with `shape` and `scheme`: the run's status, and its
 // failure message if it stopped.
-std::pair<std::string, std::string> rodImpact(const std::string& shape, const std::string& scheme, Teuchos::FancyOStream& out) {
-  auto deck = Teuchos::getParametersFromYamlFile(std::string(IMPM_SOURCE_DIR) + "/apps/rod_impact_3d_explicit_gimp.yaml");
+std::pair<std::string, std::string> rodImpact(const std::string& shape, const std::string& scheme,
+                                              Teuchos::FancyOStream& out) {
+  auto deck =
+      Teuchos::getParametersFromYamlFile(std::string(IMPM_SOURCE_DIR) + "/apps/rod_impact_3d_explicit_gimp.yaml");
   ParameterList d = *deck;
   d.sublist("Method").set("Shape Function", shape);
   d.sublist("Integrator").sublist("Explicit").set("Update Scheme", scheme);

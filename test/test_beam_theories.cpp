@@ -73,8 +73,8 @@ TEUCHOS_UNIT_TEST(BeamTheories, TimoshenkoFrequencyEquation) {
   const double w1 = eb(t).omega1();
   TEST_COMPARE(std::abs(w1 - 72.135), <=, 6e-4);
   const double d1 = 1 - t.omega(1, 0) / w1, d3 = 1 - t.omega(3, 0) / (9 * w1);
-  out << "Problem 2: omega_1 EB " << w1 << ", Timoshenko " << t.omega(1, 0) << " (-" << 100 * d1
-      << "%), omega_3 -" << 100 * d3 << "%, shear branch omega_1 " << t.omega(1, 1) << "\n";
+  out << "Problem 2: omega_1 EB " << w1 << ", Timoshenko " << t.omega(1, 0) << " (-" << 100 * d1 << "%), omega_3 -"
+      << 100 * d3 << "%, shear branch omega_1 " << t.omega(1, 1) << "\n";
   TEST_COMPARE(d1, >, 0.003);
   TEST_COMPARE(d1, <, 0.005);
   TEST_COMPARE(d3, >, 0.03);
@@ -120,8 +120,8 @@ TEUCHOS_UNIT_TEST(BeamTheories, TimoshenkoDeflectionTendsToEulerBernoulli) {
   TEST_COMPARE(d, <, 1e-4);
   // ... and the Problem 2 beam (depth/L = 1/20) is visibly different, so the check has teeth.
   const TimoshenkoBeamHarmonic stocky = timo(0.5);
-  const double d2 = relL2(stocky.deflectionHistory(5.0, 1e-3, 1000, 200),
-                          impm::deflectionHistory(eb(stocky), 5.0, 1e-3, 1000, 200));
+  const double d2 =
+      relL2(stocky.deflectionHistory(5.0, 1e-3, 1000, 200), impm::deflectionHistory(eb(stocky), 5.0, 1e-3, 1000, 200));
   out << "Problem 2 beam: relative L2 (Timoshenko - EB) = " << d2 << "\n";
   TEST_COMPARE(d2, >, 1e-3);
 }
@@ -161,8 +161,8 @@ TEUCHOS_UNIT_TEST(BeamTheories, NewmarkHistoryConvergesOrderTwo) {
       const double dt = dt0 / refine;
       const auto wN = theory == 0 ? impm::deflectionHistoryNewmark(b, 5.0, dt, steps, terms)
                                   : t.deflectionHistoryNewmark(5.0, dt, steps, terms);
-      const auto wX = theory == 0 ? impm::deflectionHistory(b, 5.0, dt, steps, terms)
-                                  : t.deflectionHistory(5.0, dt, steps, terms);
+      const auto wX =
+          theory == 0 ? impm::deflectionHistory(b, 5.0, dt, steps, terms) : t.deflectionHistory(5.0, dt, steps, terms);
       double e = 0, s = 0;
       for (int k = 0; k <= steps; k += refine) {
         e = std::max(e, std::abs(wN[k] - wX[k]));
@@ -171,8 +171,8 @@ TEUCHOS_UNIT_TEST(BeamTheories, NewmarkHistoryConvergesOrderTwo) {
       err[level] = e / s;
     }
     const double p1 = std::log2(err[0] / err[1]), p2 = std::log2(err[1] / err[2]);
-    out << (theory == 0 ? "EB" : "Timoshenko") << " Newmark errors " << err[0] << " " << err[1] << " "
-        << err[2] << ", observed orders " << p1 << " " << p2 << "\n";
+    out << (theory == 0 ? "EB" : "Timoshenko") << " Newmark errors " << err[0] << " " << err[1] << " " << err[2]
+        << ", observed orders " << p1 << " " << p2 << "\n";
     TEST_COMPARE(p1, >=, 1.9);
     TEST_COMPARE(p1, <=, 2.1);
     TEST_COMPARE(p2, >=, 1.9);
@@ -198,7 +198,7 @@ TEUCHOS_UNIT_TEST(BeamTheories, NewmarkFreeModeFrequency) {
   const double measured = 2 * kPi * (up.size() - 1) / (up.back() - up.front());
   out << "W = " << W << ", (2/dt)atan(W dt/2) = " << Wd << ", measured " << measured << "\n";
   TEST_FLOATING_EQUALITY(measured, Wd, 1e-6);
-  TEST_COMPARE(std::abs(measured / W - 1), >, 0.015);                                      // not W ...
+  TEST_COMPARE(std::abs(measured / W - 1), >, 0.015);                        // not W ...
   TEST_FLOATING_EQUALITY(1 - measured / W, std::pow(W * dt, 2) / 12, 0.05);  // ... but (W dt)^2/12 less
   // (to leading order: 1 - atan(x)/x = x^2/3 - x^4/5 + ..., x = W dt/2, so 4% off at x = 0.25)
 }

@@ -39,10 +39,23 @@ ParameterList shapesDeck(const std::string& outdir) {
   ms.sublist("soft").set("Young Modulus", 1e6).set("Poisson Ratio", 0.3).set("Density", 1000.0);
   ms.sublist("stiff").set("Young Modulus", 1e8).set("Poisson Ratio", 0.2).set("Density", 3000.0);
   auto& bs = d.sublist("Bodies");
-  bs.sublist("plate").set("Shape", "Rectangle").set("Material", "soft").set("X Min", 0.0).set("X Max", 0.6)
-      .set("Y Min", 0.0).set("Y Max", 0.4).set("Particles Per Cell X", 2).set("Particles Per Cell Y", 3);
-  bs.sublist("disk").set("Shape", "Ellipse").set("Material", "stiff").set("Center X", 1.5).set("Center Y", 0.5)
-      .set("Radius X", 0.3).set("Radius Y", 0.3).set("Velocity X", -1.0);
+  bs.sublist("plate")
+      .set("Shape", "Rectangle")
+      .set("Material", "soft")
+      .set("X Min", 0.0)
+      .set("X Max", 0.6)
+      .set("Y Min", 0.0)
+      .set("Y Max", 0.4)
+      .set("Particles Per Cell X", 2)
+      .set("Particles Per Cell Y", 3);
+  bs.sublist("disk")
+      .set("Shape", "Ellipse")
+      .set("Material", "stiff")
+      .set("Center X", 1.5)
+      .set("Center Y", 0.5)
+      .set("Radius X", 0.3)
+      .set("Radius Y", 0.3)
+      .set("Velocity X", -1.0);
   bs.sublist("wedge").set("Shape", "Polygon").set("Material", "soft").set("Vertices", "0.1, 0.6; 0.9, 0.6; 0.5, 0.95");
   d.sublist("Integrator").set("Time Step", 1e-5).set("Number of Steps", 10);
   d.sublist("Output").set("Plot", false).set("Progress", false);
@@ -64,9 +77,14 @@ HostParticles gather(const impm::ParticleSet& ps) {
   auto mt = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.material);
   auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id);
   for (int p = 0; p < ps.count; ++p) {
-    h.x.push_back(x(p, 0)); h.y.push_back(x(p, 1)); h.vx.push_back(v(p, 0));
-    h.mass.push_back(m(p)); h.volume.push_back(V(p));
-    h.body.push_back(b(p)); h.material.push_back(mt(p)); h.id.push_back(id(p));
+    h.x.push_back(x(p, 0));
+    h.y.push_back(x(p, 1));
+    h.vx.push_back(v(p, 0));
+    h.mass.push_back(m(p));
+    h.volume.push_back(V(p));
+    h.body.push_back(b(p));
+    h.material.push_back(mt(p));
+    h.id.push_back(id(p));
   }
   return h;
 }
@@ -140,8 +158,15 @@ TEUCHOS_UNIT_TEST(Bodies, GaussPlacementKeepsMassAndSecondMoments) {
     if (dim == 3) g.set("Dimension", 3).set("Cells Z", 3).set("Cell Size Z", 0.2);
     d.sublist("Materials").sublist("steel").set("Young Modulus", 2e11).set("Poisson Ratio", 0.3).set("Density", 7800.0);
     auto& b = d.sublist("Bodies").sublist("block");
-    b.set("Shape", "Rectangle").set("Material", "steel").set("X Min", 0.1).set("X Max", 0.5).set("Y Min", 0.05)
-        .set("Y Max", 0.2).set("Particles Per Cell X", 2).set("Particles Per Cell Y", 4).set("Particle Placement", "Gauss");
+    b.set("Shape", "Rectangle")
+        .set("Material", "steel")
+        .set("X Min", 0.1)
+        .set("X Max", 0.5)
+        .set("Y Min", 0.05)
+        .set("Y Max", 0.2)
+        .set("Particles Per Cell X", 2)
+        .set("Particles Per Cell Y", 4)
+        .set("Particle Placement", "Gauss");
     if (dim == 3) b.set("Z Min", 0.2).set("Z Max", 0.6).set("Particles Per Cell Z", 2);
     d.sublist("Integrator").set("Time Step", 1e-7).set("Number of Steps", 1);
     d.sublist("Output").set("Plot", false).set("Progress", false);
@@ -218,13 +243,18 @@ TEUCHOS_UNIT_TEST(Bodies, ParticlesMigrateToTheirSlab) {
   auto x = ps.x;
   auto history = ps.history;
   auto ids = ps.id;
-  Kokkos::parallel_for("shift", Kokkos::RangePolicy<impm::ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-    x(p, 0) += 0.3;
-    history(p, impm::ParticleSet::kHistoryCount - 1) = 1e-3 * (double)ids(p);
-  });
+  Kokkos::parallel_for(
+      "shift", Kokkos::RangePolicy<impm::ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        x(p, 0) += 0.3;
+        history(p, impm::ParticleSet::kHistoryCount - 1) = 1e-3 * (double)ids(p);
+      });
   const HostParticles before = gather(ps);
   double sums[3] = {0, 0, 0}, gBefore[3], gAfter[3];
-  for (size_t p = 0; p < before.id.size(); ++p) { sums[0] += 1; sums[1] += (double)before.id[p]; sums[2] += before.mass[p]; }
+  for (size_t p = 0; p < before.id.size(); ++p) {
+    sums[0] += 1;
+    sums[1] += (double)before.id[p];
+    sums[2] += before.mass[p];
+  }
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 3, sums, gBefore);
   const long long moved = impm::migrateParticles(ps, sim.distribution());
   if (comm->getSize() == 1) {
@@ -236,7 +266,9 @@ TEUCHOS_UNIT_TEST(Bodies, ParticlesMigrateToTheirSlab) {
   sums[0] = sums[1] = sums[2] = 0;
   bool inSlab = true;
   for (size_t p = 0; p < after.id.size(); ++p) {
-    sums[0] += 1; sums[1] += (double)after.id[p]; sums[2] += after.mass[p];
+    sums[0] += 1;
+    sums[1] += (double)after.id[p];
+    sums[2] += after.mass[p];
     const double xp[3] = {after.x[p], after.y[p], 0.0};
     inSlab = inSlab && sim.distribution().ownsPoint(xp);
   }
@@ -288,7 +320,11 @@ TEUCHOS_UNIT_TEST(Bodies, BodyForceOnOneBody) {
   auto comm = Tpetra::getDefaultComm();
   ParameterList d = shapesDeck("test_output/bodies_gravity");
   d.sublist("Bodies").sublist("disk").set("Velocity X", 0.0);
-  d.sublist("Loads").sublist("gravity").set("Type", "Body Force").set("Body", "disk").set("Acceleration Y", -9.81)
+  d.sublist("Loads")
+      .sublist("gravity")
+      .set("Type", "Body Force")
+      .set("Body", "disk")
+      .set("Acceleration Y", -9.81)
       .set("Time Function", "Constant");
   impm::validateDeck(d);
   impm::Simulation sim(d, comm);
@@ -339,9 +375,20 @@ TEUCHOS_UNIT_TEST(Bodies, BoxConstraint) {
     d.sublist("Bodies").remove("disk");
     d.sublist("Bodies").remove("wedge");
     if (clamped)
-      d.sublist("Constraints").sublist("clamp").set("Where", "Box").set("X Min", -0.01).set("X Max", 0.01)
-          .set("Y Min", 0.0).set("Y Max", 1.0).set("Components", "xy");
-    d.sublist("Loads").sublist("pull").set("Type", "Face Traction").set("Body", "plate").set("Face", "x+").set("Force X", 1e3);
+      d.sublist("Constraints")
+          .sublist("clamp")
+          .set("Where", "Box")
+          .set("X Min", -0.01)
+          .set("X Max", 0.01)
+          .set("Y Min", 0.0)
+          .set("Y Max", 1.0)
+          .set("Components", "xy");
+    d.sublist("Loads")
+        .sublist("pull")
+        .set("Type", "Face Traction")
+        .set("Body", "plate")
+        .set("Face", "x+")
+        .set("Force X", 1e3);
     d.sublist("Monitors").sublist("left").set("X", 0.0).set("Y", 0.2);
     d.sublist("Monitors").sublist("right").set("X", 0.6).set("Y", 0.2);
     d.sublist("Integrator").set("Time Step", 1e-4).set("Number of Steps", 500);
@@ -436,7 +483,10 @@ TEUCHOS_UNIT_TEST(Bodies, ParticlesFileBody) {
   const HostParticles h = gather(sim.particles());
   double volume = 0, count = 0;
   for (size_t p = 0; p < h.id.size(); ++p)
-    if (h.body[p] == 3) { volume += h.volume[p]; count += 1; }
+    if (h.body[p] == 3) {
+      volume += h.volume[p];
+      count += 1;
+    }
   double gv, gc;
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, volume, Teuchos::outArg(gv));
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, count, Teuchos::outArg(gc));

@@ -51,8 +51,7 @@ double totalVolume(const std::vector<ParticlePoint>& pts) {
 struct TempFile {
   std::string path;
   explicit TempFile(const std::string& name)
-      : path((std::filesystem::temp_directory_path() /
-              ("impm_body_shapes_" + std::to_string(::getpid()) + "_" + name))
+      : path((std::filesystem::temp_directory_path() / ("impm_body_shapes_" + std::to_string(::getpid()) + "_" + name))
                  .string()) {}
   ~TempFile() { std::remove(path.c_str()); }
   void write(const std::string& text) const { std::ofstream(path) << text; }
@@ -162,7 +161,7 @@ TEUCHOS_UNIT_TEST(BodyShapes, GaussPlacementIntegratesTheSecondMomentExactly) {
   const GridBox g{0.0, 0.0, 0.25, 0.125, 8, 4};
   const double length = 2.0, depth = 0.5, yc = 0.25, xc = 1.0;
   const auto beam = impm::makeRectangle(0.0, length, 0.0, depth);
-  const double exactI = kThickness * length * depth * depth * depth / 12;  // about y = yc
+  const double exactI = kThickness * length * depth * depth * depth / 12;     // about y = yc
   const double exactIx = kThickness * depth * length * length * length / 12;  // about x = xc
   auto moments = [&](impm::LatticePoints rule, double& volume, double& iy, double& ix, double& cubic) {
     const auto pts = impm::fillShape(*beam, g, 4, 4, kThickness, 0, g.nx, false, rule);
@@ -277,8 +276,9 @@ TEUCHOS_UNIT_TEST(BodyShapes, InvalidPolygonsThrow) {
   const std::string bowTie = invalidArgumentMessage([] { impm::makePolygon(V{{0, 0}, {1, 1}, {1, 0}, {0, 1}}); });
   TEST_ASSERT(bowTie.find("edges 1-2 and 3-4 cross") != std::string::npos);
   // A vertex touching a non-adjacent edge is not simple either: vertex 4 lies on edge 1-2.
-  const std::string touch =
-      invalidArgumentMessage([] { impm::makePolygon(V{{0, 0}, {4, 0}, {4, 4}, {2, 0}, {0, 4}}); });
+  const std::string touch = invalidArgumentMessage([] {
+    impm::makePolygon(V{{0, 0}, {4, 0}, {4, 4}, {2, 0}, {0, 4}});
+  });
   TEST_ASSERT(touch.find("edges 1-2 and 3-4 cross") != std::string::npos);
   const std::string two = invalidArgumentMessage([] { impm::makePolygon(V{{0, 0}, {1, 0}}); });
   TEST_ASSERT(two.find("at least 3 vertices, got 2") != std::string::npos);
@@ -369,13 +369,13 @@ TEUCHOS_UNIT_TEST(BodyShapes, ParticlesFileBadRowsNameTheLine) {
   const TempFile file("bad.csv");
   // Each bad row is on line 4, after a header, a good row and a comment or blank line.
   const char* bad[] = {
-      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2\n",          // 2 columns
-      "x,y,volume\n0,0,1e-4\n\n0.1, abc, 1e-4\n",       // not a number
-      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, -1e-4\n",   // negative volume
-      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, 0\n",       // zero volume
-      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, inf\n",     // not finite
-      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, 1e-4, 0\n", // 4 columns
-      "x,y,volume\n0,0,1e-4\n# c\nx,y,volume\n",        // a header that is not the first line
+      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2\n",           // 2 columns
+      "x,y,volume\n0,0,1e-4\n\n0.1, abc, 1e-4\n",        // not a number
+      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, -1e-4\n",    // negative volume
+      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, 0\n",        // zero volume
+      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, inf\n",      // not finite
+      "x,y,volume\n0,0,1e-4\n# c\n0.1, 0.2, 1e-4, 0\n",  // 4 columns
+      "x,y,volume\n0,0,1e-4\n# c\nx,y,volume\n",         // a header that is not the first line
   };
   for (const char* text : bad) {
     file.write(text);
@@ -404,7 +404,7 @@ TEUCHOS_UNIT_TEST(BodyShapes, ParsePolygonVertices) {
   TEST_ASSERT(third.find("vertex 3") != std::string::npos);
   const std::string second = invalidArgumentMessage([] { impm::parsePolygonVertices("0, 0; 1, 0, 2; 1, 1"); });
   TEST_ASSERT(second.find("vertex 2") != std::string::npos);
-  TEST_THROW(impm::parsePolygonVertices("0, 0; ; 1, 1"), std::invalid_argument);  // empty vertex
+  TEST_THROW(impm::parsePolygonVertices("0, 0; ; 1, 1"), std::invalid_argument);   // empty vertex
   TEST_THROW(impm::parsePolygonVertices("0, 0; 1; 1, 1"), std::invalid_argument);  // one coordinate
   TEST_THROW(impm::parsePolygonVertices("0 0 0; 1 0; 1 1"), std::invalid_argument);
   TEST_THROW(impm::parsePolygonVertices(""), std::invalid_argument);

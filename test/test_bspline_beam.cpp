@@ -24,7 +24,8 @@ using Teuchos::ParameterList;
 // Runs a B-spline beam deck ("" quadratic, "_cubic") with `placement`; returns the relative L2
 // error of w_mid.
 double beamError(const std::string& placement, Teuchos::FancyOStream& out, const std::string& order = "") {
-  auto deck = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/beam_implicit_bspline" + order + "_plane_strain.yaml");
+  auto deck =
+      impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/beam_implicit_bspline" + order + "_plane_strain.yaml");
   const std::string dir = "test_output/bspline" + order + "_beam_" + placement;
   deck->sublist("Problem").set("Output Directory", dir);
   deck->sublist("Body").set("Particle Placement", placement);
@@ -35,11 +36,13 @@ double beamError(const std::string& placement, Teuchos::FancyOStream& out, const
   TEUCHOS_TEST_FOR_EXCEPTION(exact.get<std::string>("Beam Theory") != "Timoshenko" ||
                                  exact.get<std::string>("Time Discretisation") != "Newmark" ||
                                  exact.get<std::string>("Modulus") != "Plane Condition",
-                             std::runtime_error, "the beam deck no longer compares with the Newmark-advanced Timoshenko beam");
+                             std::runtime_error,
+                             "the beam deck no longer compares with the Newmark-advanced Timoshenko beam");
   impm::Simulation sim(*deck, Tpetra::getDefaultComm());
   const impm::RunResult r = impm_test::runToCompletion(sim, "beam");
   const double error = impm_test::summaryValue(dir, "w_mid");
-  out << (order.empty() ? "quadratic" : "cubic") << " B-spline beam, " << placement << " placement: w(L/2, t) relative L2 error " << error << "\n";
+  out << (order.empty() ? "quadratic" : "cubic") << " B-spline beam, " << placement
+      << " placement: w(L/2, t) relative L2 error " << error << "\n";
   return error;
 }
 

@@ -25,7 +25,9 @@ using Teuchos::ParameterList;
 
 TEUCHOS_UNIT_TEST(Elastica, MattiassonTable) {
   // Mattiasson (1981), Table 1 (also Bisshopp & Drucker 1945): k, (L - x_tip)/L, y_tip/L, theta0.
-  struct Row { double k, u, w, theta0; };
+  struct Row {
+    double k, u, w, theta0;
+  };
   const Row table[] = {{1.0, 0.05643, 0.30172, 0.46135},
                        {2.0, 0.16064, 0.49346, 0.78175},
                        {5.0, 0.38763, 0.71379, 1.21537},
@@ -33,7 +35,8 @@ TEUCHOS_UNIT_TEST(Elastica, MattiassonTable) {
   for (const Row& r : table) {
     const impm::CantileverElastica e(r.k);
     const auto tip = e.tip();
-    out << std::setprecision(6) << "k = " << r.k << ": u/L " << tip.u << ", w/L " << tip.w << ", theta0 " << e.tipSlope() << "\n";
+    out << std::setprecision(6) << "k = " << r.k << ": u/L " << tip.u << ", w/L " << tip.w << ", theta0 "
+        << e.tipSlope() << "\n";
     TEST_FLOATING_EQUALITY(tip.u, r.u, 1e-4);
     TEST_FLOATING_EQUALITY(tip.w, r.w, 2e-5);
     TEST_FLOATING_EQUALITY(e.tipSlope(), r.theta0, 2e-5);
@@ -57,10 +60,17 @@ TEUCHOS_UNIT_TEST(Elastica, SmallLoadLimit) {
 
 // theta'' = -k cos theta on s in [0, 1], theta(0) = 0, theta'(0) = m, with x' = cos theta,
 // y' = sin theta (down), by RK4; returns theta'(1) and the state at s.
-struct Shot { double kappaEnd, x, y, theta; };
+struct Shot {
+  double kappaEnd, x, y, theta;
+};
 Shot shoot(double k, double m, double sStop, int n = 4000) {
   const double h = sStop / n;
-  auto f = [k](const double* z, double* dz) { dz[0] = z[1]; dz[1] = -k * std::cos(z[0]); dz[2] = std::cos(z[0]); dz[3] = std::sin(z[0]); };
+  auto f = [k](const double* z, double* dz) {
+    dz[0] = z[1];
+    dz[1] = -k * std::cos(z[0]);
+    dz[2] = std::cos(z[0]);
+    dz[3] = std::sin(z[0]);
+  };
   double z[4] = {0, m, 0, 0};
   for (int i = 0; i < n; ++i) {
     double k1[4], k2[4], k3[4], k4[4], t[4];
@@ -97,7 +107,9 @@ TEUCHOS_UNIT_TEST(Elastica, ShapeMatchesShootingIntegration) {
   }
 }
 
-struct TipErrors { double x = 0, y = 0, newtonPerStep = 0, gmresPerNewton = 0, halvings = 0; };
+struct TipErrors {
+  double x = 0, y = 0, newtonPerStep = 0, gmresPerNewton = 0, halvings = 0;
+};
 
 // A cantilever deck at cellsThrough cells over the beam's depth (the grid keeps its extent), run
 // for `steps` of its load steps (0: all); the relative errors of the tip particle's displacements
@@ -115,7 +127,10 @@ TipErrors runCantilever(int cellsThrough, int steps, const std::string& shape, i
   grid.set("Cell Size X", h).set("Cell Size Y", h);
   if (steps > 0) deck->sublist("Integrator").set("Number of Steps", steps);
   deck->sublist("Method").set("Shape Function", shape);
-  deck->sublist("Bodies").sublist("beam").set("Particles Per Cell X", particlesPerCell).set("Particles Per Cell Y", particlesPerCell);
+  deck->sublist("Bodies")
+      .sublist("beam")
+      .set("Particles Per Cell X", particlesPerCell)
+      .set("Particles Per Cell Y", particlesPerCell);
   deck->sublist("Implicit Solver").set("Preconditioner", preconditioner);
   deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
   const std::string dir = "test_output/" + deckName + "_" + shape + "_" + std::to_string(cellsThrough);
@@ -124,14 +139,14 @@ TipErrors runCantilever(int cellsThrough, int steps, const std::string& shape, i
   const auto hist = impm_test::readHistory(dir + "/history.csv");
   const double ux = hist.at("tip displacement x").back(), uxe = hist.at("tip displacement x_exact").back();
   const double uy = hist.at("tip displacement y").back(), uye = hist.at("tip displacement y_exact").back();
-  TipErrors e{std::abs(ux / uxe - 1), std::abs(uy / uye - 1),
-              impm_test::summaryValue(dir, "Newton Iterations Mean"),
+  TipErrors e{std::abs(ux / uxe - 1), std::abs(uy / uye - 1), impm_test::summaryValue(dir, "Newton Iterations Mean"),
               impm_test::summaryValue(dir, "Krylov Iterations Per Newton Mean"),
               impm_test::summaryValue(dir, "Step Halvings")};
-  out << std::setprecision(4) << shape << ", " << cellsThrough << " cells through the depth, t = " << hist.at("time").back()
-      << " s: tip u_x " << ux << " (exact " << uxe << ", error " << e.x << "), u_y " << uy << " (exact " << uye
-      << ", error " << e.y << "); " << e.newtonPerStep << " Newton iterations per step, " << e.gmresPerNewton
-      << " GMRES per Newton, " << e.halvings << " step halvings\n";
+  out << std::setprecision(4) << shape << ", " << cellsThrough
+      << " cells through the depth, t = " << hist.at("time").back() << " s: tip u_x " << ux << " (exact " << uxe
+      << ", error " << e.x << "), u_y " << uy << " (exact " << uye << ", error " << e.y << "); " << e.newtonPerStep
+      << " Newton iterations per step, " << e.gmresPerNewton << " GMRES per Newton, " << e.halvings
+      << " step halvings\n";
   return e;
 }
 

@@ -64,7 +64,10 @@ struct DiskRun {
 DiskRun runDisks(int refine) {
   ParameterList d = deckOf("colliding_disks_contact_explicit_gimp.yaml");
   ParameterList& g = d.sublist("Grid");
-  g.set("Cells X", 20 * refine).set("Cells Y", 20 * refine).set("Cell Size X", 0.05 / refine).set("Cell Size Y", 0.05 / refine);
+  g.set("Cells X", 20 * refine)
+      .set("Cells Y", 20 * refine)
+      .set("Cell Size X", 0.05 / refine)
+      .set("Cell Size Y", 0.05 / refine);
   d.sublist("Integrator").set("Time Step", 1e-3 / refine).set("Number of Steps", 3500 * refine);
   d.sublist("Output").set("History Interval", 10 * refine);
   impm::validateDeck(d);
@@ -79,11 +82,11 @@ DiskRun runDisks(int refine) {
 // The disks (0.2 m radius, 1000 kg/m^3, +-(0.1, 0.1) m/s) meet along the diagonal. The contact
 // force on the lower disk, F, points down the diagonal whenever it acts (F . (1, 1) <= 0: it never
 // pulls), vanishes once they have parted (t > 2.3 s; a last graze of 1e-8 of the peak at h), and is
-// exactly the upper disk's reaction: total momentum stays zero to round-off. Each disk leaves with its velocity reversed. The
-// contact is detected when the fields approach, up to a cell before the surfaces meet, and costs
-// kinetic energy: measured 19% of it at 20 x 20 cells and 6.5% at 40 x 40. Asserted: below 25% at
-// h, and at h / 2 less than half of that at h (the loss falls with h, about linearly: 3.5% at
-// 80 x 80 cells, apps/colliding_disks_contact_explicit_gimp.yaml).
+// exactly the upper disk's reaction: total momentum stays zero to round-off. Each disk leaves with its velocity
+// reversed. The contact is detected when the fields approach, up to a cell before the surfaces meet, and costs kinetic
+// energy: measured 19% of it at 20 x 20 cells and 6.5% at 40 x 40. Asserted: below 25% at h, and at h / 2 less than
+// half of that at h (the loss falls with h, about linearly: 3.5% at 80 x 80 cells,
+// apps/colliding_disks_contact_explicit_gimp.yaml).
 TEUCHOS_UNIT_TEST(Contact, DisksCollideAndSeparate) {
   const double M = 2 * M_PI * 0.2 * 0.2 * 1000.0, v0 = 0.1 * std::sqrt(2.0);
   double loss[2] = {0, 0};
@@ -104,8 +107,9 @@ TEUCHOS_UNIT_TEST(Contact, DisksCollideAndSeparate) {
     const auto& lower = run.velocity[0];
     const auto& upper = run.velocity[1];
     out << "refine " << refine << ": peak contact force " << peak << " N, largest pull " << pull << " N, after parting "
-        << after << " N; momentum " << momentum << " (M v0 = " << M * v0 << "); lower disk leaves at (" << lower[0] << ", "
-        << lower[1] << "), upper at (" << upper[0] << ", " << upper[1] << "); energy lost " << loss[refine - 1] << "\n";
+        << after << " N; momentum " << momentum << " (M v0 = " << M * v0 << "); lower disk leaves at (" << lower[0]
+        << ", " << lower[1] << "), upper at (" << upper[0] << ", " << upper[1] << "); energy lost " << loss[refine - 1]
+        << "\n";
     TEST_COMPARE(peak, >, 10.0);  // the disks did meet (the peak force is about 27 N)
     TEST_COMPARE(pull, <=, 1e-9 * peak);
     TEST_COMPARE(after, <, 1e-6 * peak);  // (a graze of 1e-8 peak at h)
@@ -121,7 +125,8 @@ TEUCHOS_UNIT_TEST(Contact, DisksCollideAndSeparate) {
 }
 
 // The block's travel at t = 0.25 s (the centre particle's displacement along the incline).
-double inclineTravel(const std::function<void(ParameterList&)>& edit, const std::string& tag, impm::RunResult* result = nullptr) {
+double inclineTravel(const std::function<void(ParameterList&)>& edit, const std::string& tag,
+                     impm::RunResult* result = nullptr) {
   ParameterList d = deckOf("block_incline_contact_explicit_gimp.yaml");
   edit(d);
   impm::validateDeck(d);
@@ -198,7 +203,8 @@ TEUCHOS_UNIT_TEST(Contact, BlockHoldsOnInclineWhenFrictionSuffices) {
         d.sublist("Contact Pairs").sublist("glued").set("Bodies", "slab, block").set("Law", "No Slip");
       },
       "bonded");
-  out << "travel with mu = 0.7: " << rough << " m; No Slip: " << bonded << " m; frictionless " << frictionless << " m\n";
+  out << "travel with mu = 0.7: " << rough << " m; No Slip: " << bonded << " m; frictionless " << frictionless
+      << " m\n";
   TEST_COMPARE(std::abs(rough), <, 1e-3 * frictionless);
   TEST_COMPARE(std::abs(bonded), <, 1e-3 * frictionless);
   const std::vector<double>& fx = r.reactions.at("rough_contact_x");
@@ -230,7 +236,8 @@ TEUCHOS_UNIT_TEST(Contact, BlockSlidesDownInclineOnRoughWall) {
       },
       "wall");
   const double exact = slidingTravel(0.3), error = std::abs(travel / exact - 1);
-  out << "on a rough wall, mu = 0.3: travel " << travel << " m, exact " << exact << " m, relative error " << error << "\n";
+  out << "on a rough wall, mu = 0.3: travel " << travel << " m, exact " << exact << " m, relative error " << error
+      << "\n";
   TEST_COMPARE(error, <, 0.03);
 }
 
@@ -291,8 +298,9 @@ TEUCHOS_UNIT_TEST(Contact, DiskRollsOrSlipsDownIncline) {
     const double spin = rolls ? -a * t / R : -2 * mu * g * std::cos(theta) * t / R;
     const double travel = end[0] - start[0];
     const double travelError = travel / (0.5 * a * t * t) - 1, spinError = end[1] / spin - 1;
-    out << "mu = " << mu << (rolls ? " (rolls)" : " (slips)") << ": travel " << travel << " m (exact " << 0.5 * a * t * t
-        << ", error " << travelError << "), spin " << end[1] << " rad/s (exact " << spin << ", error " << spinError << ")\n";
+    out << "mu = " << mu << (rolls ? " (rolls)" : " (slips)") << ": travel " << travel << " m (exact "
+        << 0.5 * a * t * t << ", error " << travelError << "), spin " << end[1] << " rad/s (exact " << spin
+        << ", error " << spinError << ")\n";
     TEST_COMPARE(std::abs(start[1]), <, 1e-12);
     if (rolls) {
       TEST_COMPARE(std::abs(travelError), <, 0.08);
@@ -382,8 +390,7 @@ TEUCHOS_UNIT_TEST(Contact, RefusesBadContact) {
        [](ParameterList& d) { d.sublist("Contact").set("Friction", -0.1); }},
       {"unknown body", "Contact Pairs/pair/Bodies", "names no entry of Bodies",
        [&](ParameterList& d) { pair(d, "slab, brick"); }},
-      {"one body twice", "Contact Pairs/pair/Bodies", "twice",
-       [&](ParameterList& d) { pair(d, "block, block"); }},
+      {"one body twice", "Contact Pairs/pair/Bodies", "twice", [&](ParameterList& d) { pair(d, "block, block"); }},
       {"one body only", "Contact Pairs/pair/Bodies", "must name two bodies",
        [&](ParameterList& d) { pair(d, "block"); }},
       {"pair friction", "Contact Pairs/pair/Friction", "must be a finite coefficient >= 0",
@@ -398,7 +405,9 @@ TEUCHOS_UNIT_TEST(Contact, RefusesBadContact) {
          d.sublist("Loads").sublist("push").set("Type", "Node Force").set("X", 0.03).set("Y", 0.02).set("Force X", 1.0);
        }},
       {"projection", "Integrator/Explicit/Consistent Projection Iterations", "must be 0",
-       [](ParameterList& d) { d.sublist("Integrator").sublist("Explicit").set("Consistent Projection Iterations", 1); }},
+       [](ParameterList& d) {
+         d.sublist("Integrator").sublist("Explicit").set("Consistent Projection Iterations", 1);
+       }},
       {"finite elements", "Contact/Type", "finite-element reference",
        [](ParameterList& d) {
          d.sublist("Method").set("Shape Function", "FE Q4");
@@ -410,7 +419,8 @@ TEUCHOS_UNIT_TEST(Contact, RefusesBadContact) {
          d.remove("Constraints");
        }},
   };
-  impm_test::checkRefusals(deckOf("block_incline_contact_explicit_gimp.yaml"), cases, "test_output/contact_bad", out, success);
+  impm_test::checkRefusals(deckOf("block_incline_contact_explicit_gimp.yaml"), cases, "test_output/contact_bad", out,
+                           success);
 }
 
 }  // namespace

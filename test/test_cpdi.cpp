@@ -21,8 +21,18 @@ using impm::UniformGimp;
 
 StructuredGrid grid3d(int dim) {
   StructuredGrid g;
-  g.x0 = -0.3; g.y0 = 0.1; g.hx = 0.5; g.hy = 0.25; g.nx = 12; g.ny = 9;
-  if (dim == 3) { g.dim = 3; g.z0 = 0.2; g.hz = 0.4; g.nz = 8; }
+  g.x0 = -0.3;
+  g.y0 = 0.1;
+  g.hx = 0.5;
+  g.hy = 0.25;
+  g.nx = 12;
+  g.ny = 9;
+  if (dim == 3) {
+    g.dim = 3;
+    g.z0 = 0.2;
+    g.hz = 0.4;
+    g.nz = 8;
+  }
   return g;
 }
 
@@ -36,7 +46,10 @@ void randomDomain(std::mt19937& rng, const StructuredGrid& g, double (&F)[Dim * 
     for (int j = 0; j < Dim; ++j) A[i][j] = i == j ? stretch(rng) : j > i ? shear(rng) : 0.0;
   double Q[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const double a = angle(rng), c = std::cos(a), s = std::sin(a);
-  Q[0][0] = c; Q[0][1] = -s; Q[1][0] = s; Q[1][1] = c;
+  Q[0][0] = c;
+  Q[0][1] = -s;
+  Q[1][0] = s;
+  Q[1][1] = c;
   if (Dim == 3) {  // and a rotation about x
     const double b = angle(rng), cb = std::cos(b), sb = std::sin(b);
     const double R[3][3] = {{1, 0, 0}, {0, cb, -sb}, {0, sb, cb}};
@@ -67,11 +80,15 @@ void checkCompleteness(Teuchos::FancyOStream& out, bool& success) {
     double F[Dim * Dim], l[Dim], xc[Dim];
     randomDomain<Dim>(rng, g, F, l);
     for (int d = 0; d < Dim; ++d) {  // 2 cells from the edges: no corner is clipped
-      std::uniform_real_distribution<double> u(g.origin(d) + 2 * g.spacing(d), g.origin(d) + (g.cells(d) - 2) * g.spacing(d));
+      std::uniform_real_distribution<double> u(g.origin(d) + 2 * g.spacing(d),
+                                               g.origin(d) + (g.cells(d) - 2) * g.spacing(d));
       xc[d] = u(rng);
     }
     const ParticleStencil<Cpdi, Dim> st(g, xc, l, F);
-    if (st.capped) { ++capped; continue; }
+    if (st.capped) {
+      ++capped;
+      continue;
+    }
     double sum = 0, grad[Dim] = {}, moment[Dim] = {}, dmoment[Dim][Dim] = {};
     st.forEachOffset([&](const int* off, double w, const double* gr) {
       for (int d = 0; d < Dim; ++d) {
@@ -99,8 +116,8 @@ void checkCompleteness(Teuchos::FancyOStream& out, bool& success) {
     }
   }
   out << Dim << "D CPDI, 1000 random domains (" << capped << " capped, skipped; " << spread
-      << " with 4 nodes in some direction): worst deviation "
-      << worst << " from sum S = 1, sum grad S = 0, sum S x = x_p, sum grad S x^T = I\n";
+      << " with 4 nodes in some direction): worst deviation " << worst
+      << " from sum S = 1, sum grad S = 0, sum S x = x_p, sum grad S x^T = I\n";
   TEST_COMPARE(worst, <, 1e-12);
   TEST_COMPARE(spread, >, 100);  // the non-tensor 4-node boxes were exercised
   TEST_COMPARE(capped, <, 300);
@@ -117,7 +134,8 @@ TEUCHOS_UNIT_TEST(Cpdi, PartitionOfUnityAndLinearCompleteness3d) { checkComplete
 TEUCHOS_UNIT_TEST(Cpdi, IdentityIsTheCornerAverageAndUGimpInsideACell) {
   const StructuredGrid g = grid3d(2);
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> ux(g.x0 + g.hx, g.xMax() - g.hx), uy(g.y0 + g.hy, g.yMax() - g.hy), frac(0.05, 0.5);
+  std::uniform_real_distribution<double> ux(g.x0 + g.hx, g.xMax() - g.hx), uy(g.y0 + g.hy, g.yMax() - g.hy),
+      frac(0.05, 0.5);
   const double I[4] = {1, 0, 0, 1};
   int insideOneCell = 0;
   for (int k = 0; k < 500; ++k) {
@@ -133,8 +151,10 @@ TEUCHOS_UNIT_TEST(Cpdi, IdentityIsTheCornerAverageAndUGimpInsideACell) {
         const double avgX = 0.5 * (LinearMpm::value(rx - l[0], g.hx, 0) + LinearMpm::value(rx + l[0], g.hx, 0));
         const double avgY = 0.5 * (LinearMpm::value(ry - l[1], g.hy, 0) + LinearMpm::value(ry + l[1], g.hy, 0));
         TEST_FLOATING_EQUALITY(st.weight(a, b) + 1.0, avgX * avgY + 1.0, 1e-13);
-        TEST_FLOATING_EQUALITY(st.gradX(a, b) * g.hx + 1.0, UniformGimp::gradient(rx, g.hx, l[0]) * avgY * g.hx + 1.0, 1e-12);
-        TEST_FLOATING_EQUALITY(st.gradY(a, b) * g.hy + 1.0, avgX * UniformGimp::gradient(ry, g.hy, l[1]) * g.hy + 1.0, 1e-12);
+        TEST_FLOATING_EQUALITY(st.gradX(a, b) * g.hx + 1.0, UniformGimp::gradient(rx, g.hx, l[0]) * avgY * g.hx + 1.0,
+                               1e-12);
+        TEST_FLOATING_EQUALITY(st.gradY(a, b) * g.hy + 1.0, avgX * UniformGimp::gradient(ry, g.hy, l[1]) * g.hy + 1.0,
+                               1e-12);
         if (oneCell) {
           // uGIMP's stencil (2 nodes per direction here) at the same node.
           const int ga = st.first[0] + a - gimp.first[0], gb = st.first[1] + b - gimp.first[1];
@@ -226,7 +246,10 @@ TEUCHOS_UNIT_TEST(Cpdi, DomainCheckNamesTheParticle) {
     F(p, 0, 0) = stretch[p];
     id(p) = 100 + p;
   }
-  Kokkos::deep_copy(ps.x, x); Kokkos::deep_copy(ps.halfSize, hs); Kokkos::deep_copy(ps.F, F); Kokkos::deep_copy(ps.id, id);
+  Kokkos::deep_copy(ps.x, x);
+  Kokkos::deep_copy(ps.halfSize, hs);
+  Kokkos::deep_copy(ps.F, F);
+  Kokkos::deep_copy(ps.id, id);
   const auto all = impm::LocalNodeIndexer::wholeGrid(g);
   const auto r = impm::checkCpdiDomains<impm::ExecutionSpace, 2>(g, all, ps);
   TEST_EQUALITY(r.tooLarge, 1);

@@ -132,7 +132,12 @@ void checkTangent(Teuchos::FancyOStream& out, bool& success) {
     const ElastoplasticDriver<Dim> virgin(materials.law());
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    struct Case { const char* name; const ElastoplasticDriver<Dim>* from; double G[Dim][Dim]; bool plastic; };
+    struct Case {
+      const char* name;
+      const ElastoplasticDriver<Dim>* from;
+      double G[Dim][Dim];
+      bool plastic;
+    };
     Case cases[4] = {{"elastic unloading", &yielded, {}, false},
                      {"cone, small step", &yielded, {}, true},
                      {"cone, large step", &yielded, {}, true},

@@ -51,10 +51,11 @@ TEUCHOS_UNIT_TEST(ExactSolutions, BarClosedFormStressFronts) {
   // A front of F0/A leaves x = L, doubles the stress on reflecting at x = 0, brings it back to
   // F0/A (the applied traction) on reflecting at x = L, and leaves zero after the next x = 0
   // reflection: period 4 L/c. Points at x = L/4 and 3L/4, mid-transit (a quarter L from fronts).
-  struct Case { double x, transits, stressOverS; };
-  const Case cases[] = {{0.75, 0.5, 1}, {0.25, 0.5, 0}, {0.75, 1.5, 1}, {0.25, 1.5, 2},
-                        {0.75, 2.5, 1}, {0.25, 2.5, 2}, {0.75, 3.5, 1}, {0.25, 3.5, 0},
-                        {0.75, 4.5, 1}, {0.25, 4.5, 0}};
+  struct Case {
+    double x, transits, stressOverS;
+  };
+  const Case cases[] = {{0.75, 0.5, 1}, {0.25, 0.5, 0}, {0.75, 1.5, 1}, {0.25, 1.5, 2}, {0.75, 2.5, 1},
+                        {0.25, 2.5, 2}, {0.75, 3.5, 1}, {0.25, 3.5, 0}, {0.75, 4.5, 1}, {0.25, 4.5, 0}};
   for (bool planeStrain : {false, true}) {
     const BarStepExact b = bar(planeStrain);
     const double T = b.L / b.waveSpeed(), s = b.F0 / b.A;
@@ -112,8 +113,8 @@ TEUCHOS_UNIT_TEST(ExactSolutions, BarStressSeriesMatchesClosedFormAwayFromFronts
       for (int j = 1; j <= 200; ++j) {
         const double x = L * i / 20, t = 1e-4 * j / 200;
         // Fronts sit where c t + x or c t - x is L modulo 2L.
-        const double d = std::min({std::abs(std::remainder(c * t + x - L, 2 * L)),
-                                   std::abs(std::remainder(c * t - x - L, 2 * L)), L - x});
+        const double d = std::min(
+            {std::abs(std::remainder(c * t + x - L, 2 * L)), std::abs(std::remainder(c * t - x - L, 2 * L)), L - x});
         if (d < margin * L) continue;
         ++checked;
         worst = std::max(worst, std::abs(b.stressSeries(x, t, N) - b.stressClosed(x, t)) * b.A / b.F0);

@@ -49,7 +49,8 @@ double tipError(const std::string& method, const std::string& plane, Teuchos::Fa
   out << log.str();
   const double npDifference = impm_test::rankCountDifference(d, r, dir);
   if (npDifference >= 0) {
-    out << "np " << Tpetra::getDefaultComm()->getSize() << " against one rank: max relative difference " << npDifference << "\n";
+    out << "np " << Tpetra::getDefaultComm()->getSize() << " against one rank: max relative difference " << npDifference
+        << "\n";
     TEST_COMPARE(npDifference, <, 1e-12);
   }
   return r.relativeL2.at("ux_L");
@@ -60,8 +61,12 @@ double tipError(const std::string& method, const std::string& plane, Teuchos::Fa
 // is deterministic and the same at np 1 and 2 (asserted above), so 1.8% (1.2 times the
 // measured) leaves room only for compiler and library changes, and fails for a wrong modulus
 // (plane strain against stress differ by 9%) or a misplaced load.
-TEUCHOS_UNIT_TEST(ExplicitBar, MpmPlaneStress) { TEST_COMPARE(tipError("MPM", "Plane Stress", out, success), <, 0.018); }
-TEUCHOS_UNIT_TEST(ExplicitBar, GimpPlaneStrain) { TEST_COMPARE(tipError("GIMP", "Plane Strain", out, success), <, 0.018); }
+TEUCHOS_UNIT_TEST(ExplicitBar, MpmPlaneStress) {
+  TEST_COMPARE(tipError("MPM", "Plane Stress", out, success), <, 0.018);
+}
+TEUCHOS_UNIT_TEST(ExplicitBar, GimpPlaneStrain) {
+  TEST_COMPARE(tipError("GIMP", "Plane Strain", out, success), <, 0.018);
+}
 
 // Against the wrong modulus the error must be large: the test can tell plane strain from stress.
 TEUCHOS_UNIT_TEST(ExplicitBar, WrongModulusIsDetected) {

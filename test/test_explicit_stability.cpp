@@ -32,11 +32,16 @@ double peakEnergy(double fractionOfCheckedLimit, Teuchos::FancyOStream& out) {
   d.sublist("Problem").set("Output Directory", "test_output/explicit_stability_" + tag);
   d.sublist("Body").set("Particles Per Cell X", 1).set("Particles Per Cell Y", 1);
   // The same end time (3000 steps at the checked limit) for every step size.
-  d.sublist("Integrator").set("Time Step", fractionOfCheckedLimit * checked)
+  d.sublist("Integrator")
+      .set("Time Step", fractionOfCheckedLimit * checked)
       .set("Number of Steps", (int)std::lround(3000 / fractionOfCheckedLimit));
   d.sublist("Integrator").sublist("Explicit").set("Update Scheme", "USL").set("Stability Factor", 2.0);
-  d.sublist("Output").set("Energy And Momentum", true).set("History Interval", 10).set("VTK Interval", 0)
-      .set("Plot", false).set("Progress", false);
+  d.sublist("Output")
+      .set("Energy And Momentum", true)
+      .set("History Interval", 10)
+      .set("VTK Interval", 0)
+      .set("Plot", false)
+      .set("Progress", false);
   double peak = 0;
   try {
     const impm_test::History h = impm_test::runDeck(d);  // (kept: .at() of a temporary would dangle)

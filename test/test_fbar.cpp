@@ -88,7 +88,10 @@ std::vector<std::array<double, 4>> correctedGradients(FbarAveraging<2>& fbar, co
       "corrected", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
         double G[2][2] = {{L(p, 0, 0), L(p, 0, 1)}, {L(p, 1, 0), L(p, 1, 1)}};
         correct(p, G);
-        out(p, 0) = G[0][0]; out(p, 1) = G[0][1]; out(p, 2) = G[1][0]; out(p, 3) = G[1][1];
+        out(p, 0) = G[0][0];
+        out(p, 1) = G[0][1];
+        out(p, 2) = G[1][0];
+        out(p, 3) = G[1][1];
       });
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
   std::vector<std::array<double, 4>> result(ps.count);
@@ -214,7 +217,8 @@ TEUCHOS_UNIT_TEST(Fbar, VolumeChangeIsTheCellsIn3d) {
     for (int c = 0; c < 9; ++c)
       worstShape = std::max(worstShape, std::abs(Fb[c / 3][c % 3] - s * (G[p][c] + (c % 4 == 0 ? 1 : 0))));
   }
-  out << "3D: worst |det(I + G_bar) - cell mean| " << worstJ << ", worst departure from s (I + G) " << worstShape << "\n";
+  out << "3D: worst |det(I + G_bar) - cell mean| " << worstJ << ", worst departure from s (I + G) " << worstShape
+      << "\n";
   TEST_ASSERT(worstJ < 1e-14);
   TEST_ASSERT(worstShape < 1e-14);
 }

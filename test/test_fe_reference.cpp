@@ -25,7 +25,12 @@ using Teuchos::ParameterList;
 // reproduce x and x^2 (quadratic completeness), and their gradients match finite differences.
 TEUCHOS_UNIT_TEST(QuadraticLagrange, CompletenessAndGradients) {
   StructuredGrid g;
-  g.x0 = -0.4; g.y0 = 0.2; g.hx = 0.3; g.hy = 0.45; g.nx = 10; g.ny = 6;
+  g.x0 = -0.4;
+  g.y0 = 0.2;
+  g.hx = 0.3;
+  g.hy = 0.45;
+  g.nx = 10;
+  g.ny = 6;
   // Kronecker property at the nodes of an element.
   for (int i = 0; i <= 2; ++i)
     for (int node = 0; node <= 2; ++node)
@@ -59,7 +64,9 @@ TEUCHOS_UNIT_TEST(QuadraticLagrange, CompletenessAndGradients) {
     // Gradient against a central difference inside the same element.
     const int node = st.first[0] + 1;
     const double r = x - g.nodeX(node), eps = 1e-6 * g.hx;
-    const double fd = (QuadraticLagrange::value(r + eps, g.hx, 0.0, node) - QuadraticLagrange::value(r - eps, g.hx, 0.0, node)) / (2 * eps);
+    const double fd =
+        (QuadraticLagrange::value(r + eps, g.hx, 0.0, node) - QuadraticLagrange::value(r - eps, g.hx, 0.0, node)) /
+        (2 * eps);
     TEST_COMPARE(std::abs(QuadraticLagrange::gradient(r, g.hx, 0.0, node) - fd), <, 1e-6 / g.hx);
   }
 }
@@ -83,11 +90,21 @@ ParameterList beamDeck(const std::string& shape, const std::string& outdir) {
   auto& c = d.sublist("Constraints");
   c.sublist("left").set("Where", "Node").set("X", 0.0).set("Y", 0.25).set("Components", "xy");
   c.sublist("right").set("Where", "Node").set("X", 10.0).set("Y", 0.25).set("Components", "y");
-  d.sublist("Loads").sublist("force").set("Type", "Node Force").set("X", 5.0).set("Y", 0.25).set("Force Y", -4.0)
-      .set("Time Function", "Sine").set("Angular Frequency", 150.0);
+  d.sublist("Loads")
+      .sublist("force")
+      .set("Type", "Node Force")
+      .set("X", 5.0)
+      .set("Y", 0.25)
+      .set("Force Y", -4.0)
+      .set("Time Function", "Sine")
+      .set("Angular Frequency", 150.0);
   d.sublist("Monitors").sublist("w_mid").set("Quantity", "Displacement Y").set("X", 5.0).set("Y", 0.25);
-  d.sublist("Exact Solution").set("Type", "Simply Supported Beam").set("Load", "force").set("Series Terms", 200)
-      .set("Beam Theory", "Timoshenko").set("Time Discretisation", "Newmark");
+  d.sublist("Exact Solution")
+      .set("Type", "Simply Supported Beam")
+      .set("Load", "force")
+      .set("Series Terms", 200)
+      .set("Beam Theory", "Timoshenko")
+      .set("Time Discretisation", "Newmark");
   d.sublist("Output").set("Plot", false).set("Progress", false).set("History Interval", 1).set("VTK Interval", 0);
   return d;
 }

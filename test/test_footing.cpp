@@ -26,7 +26,7 @@ namespace {
 
 using Teuchos::ParameterList;
 
-constexpr double kCohesion = 1.0e4;                 // c_u (Pa): sigma_y = sqrt(3) c_u in the deck
+constexpr double kCohesion = 1.0e4;                  // c_u (Pa): sigma_y = sqrt(3) c_u in the deck
 constexpr double kPrandtl = 2.0 + 3.14159265358979;  // collapse pressure / c_u
 
 struct Plateau {
@@ -60,8 +60,7 @@ Plateau pushFooting(int cellsUnderHalfFooting, bool fbar, const std::string& out
   for (int k = 1; k <= n; ++k) curve << " " << std::setprecision(3) << -R[k] / 0.5 / kCohesion;
   std::cout << outdir << ": q / c_u per step:" << curve.str() << "\n";
   const double last = meanPressure(n - fifth), before = meanPressure(n - 2 * fifth);
-  return {last / kCohesion, (last - before) / last,
-          impm_test::summaryValue(outdir, "Newton Iterations Mean"),
+  return {last / kCohesion, (last - before) / last, impm_test::summaryValue(outdir, "Newton Iterations Mean"),
           impm_test::summaryValue(outdir, "Krylov Iterations Per Newton Mean")};
 }
 

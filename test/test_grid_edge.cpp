@@ -26,7 +26,12 @@ using Teuchos::ParameterList;
 // for centres from inside the grid to beyond its edges (the domain then partly outside).
 TEUCHOS_UNIT_TEST(GridEdge, GimpStencilKeepsPartitionOfUnityPastTheEdge) {
   impm::StructuredGrid g;
-  g.nx = 4; g.ny = 3; g.hx = 0.5; g.hy = 0.25; g.x0 = -1.0; g.y0 = 2.0;
+  g.nx = 4;
+  g.ny = 3;
+  g.hx = 0.5;
+  g.hy = 0.25;
+  g.x0 = -1.0;
+  g.y0 = 2.0;
   const double lx = 0.125, ly = 0.0625;
   double worstSum = 0, worstGrad = 0;
   for (int k = -20; k <= 20; ++k) {
@@ -63,15 +68,31 @@ ParameterList cantileverDeck(const std::string& shape, const std::string& integr
   ParameterList d("impm");
   d.sublist("Problem").set("Name", "cantilever").set("Output Directory", outdir);
   const int pad = padded ? 2 : 0;
-  d.sublist("Grid").set("Cells X", 40 + 2 * pad).set("Cells Y", 4 + 2 * pad).set("Cell Size X", 0.025)
-      .set("Cell Size Y", 0.025).set("Origin X", -0.025 * pad).set("Origin Y", -0.025 * pad)
-      .set("Plane Condition", "Plane Stress").set("Thickness", 1.0);
+  d.sublist("Grid")
+      .set("Cells X", 40 + 2 * pad)
+      .set("Cells Y", 4 + 2 * pad)
+      .set("Cell Size X", 0.025)
+      .set("Cell Size Y", 0.025)
+      .set("Origin X", -0.025 * pad)
+      .set("Origin Y", -0.025 * pad)
+      .set("Plane Condition", "Plane Stress")
+      .set("Thickness", 1.0);
   d.sublist("Materials").sublist("soft").set("Young Modulus", 1e6).set("Poisson Ratio", 0.3).set("Density", 1000.0);
-  d.sublist("Bodies").sublist("beam").set("Shape", "Rectangle").set("Material", "soft").set("X Min", 0.0)
-      .set("X Max", 1.0).set("Y Min", 0.0).set("Y Max", 0.1).set("Particles Per Cell X", 2).set("Particles Per Cell Y", 2);
+  d.sublist("Bodies")
+      .sublist("beam")
+      .set("Shape", "Rectangle")
+      .set("Material", "soft")
+      .set("X Min", 0.0)
+      .set("X Max", 1.0)
+      .set("Y Min", 0.0)
+      .set("Y Max", 0.1)
+      .set("Particles Per Cell X", 2)
+      .set("Particles Per Cell Y", 2);
   d.sublist("Method").set("Shape Function", shape);
   const bool implicitRun = integrator == "Implicit";
-  d.sublist("Integrator").set("Type", integrator).set("Time Step", implicitRun ? 0.01 : 2e-4)
+  d.sublist("Integrator")
+      .set("Type", integrator)
+      .set("Time Step", implicitRun ? 0.01 : 2e-4)
       .set("Number of Steps", implicitRun ? 400 : 20000);
   if (implicitRun) d.sublist("Integrator").sublist("Implicit").set("GIMP Stiffness", "Consistent");
   d.sublist("Constraints").sublist("clamp").set("Where", "Face").set("Face", "x-").set("Components", "xy");
@@ -126,7 +147,10 @@ double timoshenkoCantileverPeriod(double L, double h, double E, double nu, doubl
     double k[4][4] = {}, m[4][4] = {};
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) k[i][j] = kappa * G * A * le * shearB[i] * shearB[j];
-    k[1][1] += E * I / le; k[3][3] += E * I / le; k[1][3] -= E * I / le; k[3][1] -= E * I / le;
+    k[1][1] += E * I / le;
+    k[3][3] += E * I / le;
+    k[1][3] -= E * I / le;
+    k[3][1] -= E * I / le;
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {
         const double shape = (a == b ? 2.0 : 1.0) * le / 6;
@@ -173,8 +197,8 @@ TEUCHOS_UNIT_TEST(GridEdge, FeQ9CantileverPeriodMatchesTimoshenko) {
   const double timoshenko = timoshenkoCantileverPeriod(1.0, 0.1, 1e6, 0.3, 1000.0);
   const double eulerBernoulli = 2 * M_PI / (1.8751040687 * 1.8751040687) * std::sqrt(1000.0 * 0.1 / (1e6 * 1e-3 / 12));
   const TipResponse& ref = feQ9Reference(out);
-  out << std::setprecision(4) << "first period: Euler-Bernoulli " << eulerBernoulli << " s, Timoshenko " << timoshenko << " s, FE Q9 "
-      << ref.period << " s (" << ref.period / timoshenko - 1 << " off Timoshenko)\n";
+  out << std::setprecision(4) << "first period: Euler-Bernoulli " << eulerBernoulli << " s, Timoshenko " << timoshenko
+      << " s, FE Q9 " << ref.period << " s (" << ref.period / timoshenko - 1 << " off Timoshenko)\n";
   TEST_COMPARE(timoshenko, >, eulerBernoulli);  // shear and rotary inertia lengthen the period
   TEST_COMPARE(std::abs(ref.period / timoshenko - 1.0), <, kFeQ9OffTimoshenko);
 }
@@ -190,8 +214,14 @@ void compareWithReference(const std::string& shape, const std::string& integrato
   TEST_COMPARE(std::abs(padded.peak / ref.peak - 1.0), <, 0.04);
 }
 
-TEUCHOS_UNIT_TEST(GridEdge, GimpExplicitCantileverFillingTheGrid) { compareWithReference("GIMP", "Explicit", out, success); }
-TEUCHOS_UNIT_TEST(GridEdge, GimpImplicitCantileverFillingTheGrid) { compareWithReference("GIMP", "Implicit", out, success); }
-TEUCHOS_UNIT_TEST(GridEdge, MpmExplicitCantileverFillingTheGrid) { compareWithReference("MPM", "Explicit", out, success); }
+TEUCHOS_UNIT_TEST(GridEdge, GimpExplicitCantileverFillingTheGrid) {
+  compareWithReference("GIMP", "Explicit", out, success);
+}
+TEUCHOS_UNIT_TEST(GridEdge, GimpImplicitCantileverFillingTheGrid) {
+  compareWithReference("GIMP", "Implicit", out, success);
+}
+TEUCHOS_UNIT_TEST(GridEdge, MpmExplicitCantileverFillingTheGrid) {
+  compareWithReference("MPM", "Explicit", out, success);
+}
 
 }  // namespace

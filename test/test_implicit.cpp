@@ -64,7 +64,10 @@ double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teucho
                         const double* domainF = nullptr) {
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
-  g.nx = 30; g.ny = ny; g.hx = 1e-3; g.hy = 0.5e-3 / ny;
+  g.nx = 30;
+  g.ny = ny;
+  g.hx = 1e-3;
+  g.hy = 0.5e-3 / ny;
   GridDistribution dist(g, comm);
   RectangularBody body{0.0, 0.03, 0.0, 0.5e-3, 3, 3, 1e-3};
   body.placement = placement;
@@ -95,8 +98,8 @@ double jacobianMismatch(int ny, ImplicitOptions opt, Placement placement, Teucho
   model.jacobianMatrix(u)->apply(v, Pv);
   const double normPv = Pv.norm2();
   diff.update(-1.0, Pv, 1.0);
-  out << Shape::name << ", " << ny << " cell(s) through the depth: ||FD(R) v - P v|| / ||P v|| = "
-      << diff.norm2() / normPv << "\n";
+  out << Shape::name << ", " << ny
+      << " cell(s) through the depth: ||FD(R) v - P v|| / ||P v|| = " << diff.norm2() / normPv << "\n";
   return normPv > 0.0 ? diff.norm2() / normPv : 1.0;
 }
 
@@ -169,7 +172,10 @@ template <class Shape>
 std::array<double, 4> j2JacobianMismatch(double amplitude, Teuchos::FancyOStream& out) {
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
-  g.nx = 30; g.ny = 2; g.hx = 1e-3; g.hy = 0.25e-3;
+  g.nx = 30;
+  g.ny = 2;
+  g.hx = 1e-3;
+  g.hy = 0.25e-3;
   GridDistribution dist(g, comm);
   RectangularBody body{0.0, 0.03, 0.0, 0.5e-3, 3, 3, 1e-3};
   const MaterialParameters steel{200e9, 0.3, 7800.0, MaterialModel::J2Plasticity, 100e6, 2e9};
@@ -184,7 +190,8 @@ std::array<double, 4> j2JacobianMismatch(double amplitude, Teuchos::FancyOStream
   ImplicitOptions opt;
   opt.solverParams = Teuchos::rcp(new ParameterList(NewtonSolver::validParameters()->name()));
   opt.solverParams->set("Jacobian", "Assembled");
-  ImplicitNewmark<Shape> model(ps, dist, plastic, bc, loads, opt), modelElastic(psElastic, dist, elastic, bc, loads, opt);
+  ImplicitNewmark<Shape> model(ps, dist, plastic, bc, loads, opt),
+      modelElastic(psElastic, dist, elastic, bc, loads, opt);
   const double dt = 1e-4;  // K dominates 4 M / dt^2
   model.prepareStep(0.0, dt);
   modelElastic.prepareStep(0.0, dt);
@@ -231,15 +238,17 @@ std::array<double, 4> j2JacobianMismatch(double amplitude, Teuchos::FancyOStream
     Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, nearestToYield, Teuchos::outArg(globalNearest));
     nearestToYield = globalNearest;
     if (nearestToYield >= 1e-4) break;
-    out << "  draw " << draw << ": a particle at phi / radius = " << nearestToYield << " of the yield surface; drawn again\n";
+    out << "  draw " << draw << ": a particle at phi / radius = " << nearestToYield
+        << " of the yield surface; drawn again\n";
   }
   int yieldingAll = 0, countAll = 0;
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, yielding, Teuchos::outArg(yieldingAll));
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, ps.count, Teuchos::outArg(countAll));
   const std::array<double, 4> r{diff.norm2() / normPv, PvElastic.norm2() / normPv, double(yieldingAll) / countAll,
                                 nearestToYield};
-  out << Shape::name << " J2 at a trial state (" << r[2] * 100 << "% of the particles yield): ||FD(R) v - P v|| / ||P v|| = "
-      << r[0] << " (with the elastic tangent: " << r[1] << ")\n";
+  out << Shape::name << " J2 at a trial state (" << r[2] * 100
+      << "% of the particles yield): ||FD(R) v - P v|| / ||P v|| = " << r[0] << " (with the elastic tangent: " << r[1]
+      << ")\n";
   return r;
 }
 
@@ -249,8 +258,9 @@ std::array<double, 4> j2JacobianMismatch(double amplitude, Teuchos::FancyOStream
 // tangent's mismatch.
 TEUCHOS_UNIT_TEST(Implicit, J2AssembledIsTheJacobian) {
   for (const double amplitude : {2e-7, 5e-6})
-    for (const auto& r : {j2JacobianMismatch<LinearMpm>(amplitude, out), j2JacobianMismatch<Cpdi>(amplitude, out),
-                          j2JacobianMismatch<UniformGimp>(amplitude, out), j2JacobianMismatch<ConvectedGimp>(amplitude, out)}) {
+    for (const auto& r :
+         {j2JacobianMismatch<LinearMpm>(amplitude, out), j2JacobianMismatch<Cpdi>(amplitude, out),
+          j2JacobianMismatch<UniformGimp>(amplitude, out), j2JacobianMismatch<ConvectedGimp>(amplitude, out)}) {
       TEST_COMPARE(r[2], >, 0.3);
       TEST_COMPARE(r[3], >=, 1e-4);
       TEST_COMPARE(r[0], <, 1e-7);
@@ -275,43 +285,55 @@ TEUCHOS_UNIT_TEST(Implicit, FeQ9AssembledIsTheJacobian) {
 // bound 2e-5 guards that figure.
 TEUCHOS_UNIT_TEST(Implicit, FreeVibrationConservesEnergy) {
   auto comm = Tpetra::getDefaultComm();
-  for (const std::string method : {"MPM", "GIMP"}) for (bool consistentMass : {false, true}) {
-    StructuredGrid g;
-    g.nx = 30; g.ny = 2; g.hx = 1e-3; g.hy = 0.25e-3;
-    GridDistribution dist(g, comm);
-    RectangularBody body{0.0, 0.03, 0.0, 0.5e-3, 3, 3, 1e-3};
-    Materials mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStress};
-    ParticleSet ps = createParticles(body, mat, dist);
-    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
-    auto v = Kokkos::create_mirror_view(ps.v);
-    for (int p = 0; p < ps.count; ++p) { v(p, 0) = 0.1 * std::sin(M_PI * x(p, 0) / (2 * 0.03)); v(p, 1) = 0.0; }
-    Kokkos::deep_copy(ps.v, v);
-    GridConditions bc({ConstraintSpec::onFace("left", body, "x-", true, false),
-                         ConstraintSpec::atNode("pin", 0, 0, false, true)}, dist);
-    LoadSet loads({}, dist, {}, 1);
-    ImplicitOptions opt;
-    opt.solverParams = Teuchos::rcp(new ParameterList("Implicit Solver"));
-    opt.solverParams->set("Linear Tolerance", 1e-10);
-    opt.consistentMass = consistentMass;
-    std::unique_ptr<Integrator> stepper;
-    if (method == "MPM") stepper = std::make_unique<ImplicitNewmark<LinearMpm>>(ps, dist, mat, bc, loads, opt);
-    else stepper = std::make_unique<ImplicitNewmark<UniformGimp>>(ps, dist, mat, bc, loads, opt);
-    const double dt = 2e-8;
-    const ParticleTotals e0 = particleTotals<ExecutionSpace, 2>(ps, mat.law(), *comm);
-    double worst = 0, maxStrain = 0;
-    for (int n = 0; n < 100; ++n) {
-      stepper->step(n * dt, dt);
-      const ParticleTotals e = particleTotals<ExecutionSpace, 2>(ps, mat.law(), *comm);
-      worst = std::max(worst, std::abs(e.total() - e0.total()) / e0.total());
-      if (n == 0 || n == 1 || n == 9 || n == 49 || n == 99)
-        out << method << (consistentMass ? " consistent" : " lumped") << " step " << n + 1 << ": (E - E0) / E0 = " << (e.total() - e0.total()) / e0.total() << "\n";
-      maxStrain = std::max(maxStrain, e.strain);
+  for (const std::string method : {"MPM", "GIMP"})
+    for (bool consistentMass : {false, true}) {
+      StructuredGrid g;
+      g.nx = 30;
+      g.ny = 2;
+      g.hx = 1e-3;
+      g.hy = 0.25e-3;
+      GridDistribution dist(g, comm);
+      RectangularBody body{0.0, 0.03, 0.0, 0.5e-3, 3, 3, 1e-3};
+      Materials mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStress};
+      ParticleSet ps = createParticles(body, mat, dist);
+      auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
+      auto v = Kokkos::create_mirror_view(ps.v);
+      for (int p = 0; p < ps.count; ++p) {
+        v(p, 0) = 0.1 * std::sin(M_PI * x(p, 0) / (2 * 0.03));
+        v(p, 1) = 0.0;
+      }
+      Kokkos::deep_copy(ps.v, v);
+      GridConditions bc(
+          {ConstraintSpec::onFace("left", body, "x-", true, false), ConstraintSpec::atNode("pin", 0, 0, false, true)},
+          dist);
+      LoadSet loads({}, dist, {}, 1);
+      ImplicitOptions opt;
+      opt.solverParams = Teuchos::rcp(new ParameterList("Implicit Solver"));
+      opt.solverParams->set("Linear Tolerance", 1e-10);
+      opt.consistentMass = consistentMass;
+      std::unique_ptr<Integrator> stepper;
+      if (method == "MPM")
+        stepper = std::make_unique<ImplicitNewmark<LinearMpm>>(ps, dist, mat, bc, loads, opt);
+      else
+        stepper = std::make_unique<ImplicitNewmark<UniformGimp>>(ps, dist, mat, bc, loads, opt);
+      const double dt = 2e-8;
+      const ParticleTotals e0 = particleTotals<ExecutionSpace, 2>(ps, mat.law(), *comm);
+      double worst = 0, maxStrain = 0;
+      for (int n = 0; n < 100; ++n) {
+        stepper->step(n * dt, dt);
+        const ParticleTotals e = particleTotals<ExecutionSpace, 2>(ps, mat.law(), *comm);
+        worst = std::max(worst, std::abs(e.total() - e0.total()) / e0.total());
+        if (n == 0 || n == 1 || n == 9 || n == 49 || n == 99)
+          out << method << (consistentMass ? " consistent" : " lumped") << " step " << n + 1
+              << ": (E - E0) / E0 = " << (e.total() - e0.total()) / e0.total() << "\n";
+        maxStrain = std::max(maxStrain, e.strain);
+      }
+      out << method << (consistentMass ? " consistent" : " lumped")
+          << " mass: max |E(t) - E(0)| / E(0) over 100 steps = " << worst << " (strain energy reached "
+          << maxStrain / e0.total() << " of the total)\n";
+      TEST_COMPARE(maxStrain, >, 0.1 * e0.total());  // the energy really moved between the two forms
+      TEST_COMPARE(worst, <, consistentMass ? 1e-6 : 2e-5);
     }
-    out << method << (consistentMass ? " consistent" : " lumped") << " mass: max |E(t) - E(0)| / E(0) over 100 steps = " << worst
-        << " (strain energy reached " << maxStrain / e0.total() << " of the total)\n";
-    TEST_COMPARE(maxStrain, >, 0.1 * e0.total());  // the energy really moved between the two forms
-    TEST_COMPARE(worst, <, consistentMass ? 1e-6 : 2e-5);
-  }
 }
 
 // A linear step with the assembled matrix and a direct solve converges in one Newton iteration.
@@ -339,7 +361,10 @@ TEUCHOS_UNIT_TEST(Implicit, AgreesWithExplicitAtSmallStep) {
   const auto& b = im.computed.at("ux_L");
   TEST_EQUALITY(a.size(), b.size());
   double num = 0, den = 0;
-  for (size_t i = 0; i < a.size(); ++i) { num += (a[i] - b[i]) * (a[i] - b[i]); den += a[i] * a[i]; }
+  for (size_t i = 0; i < a.size(); ++i) {
+    num += (a[i] - b[i]) * (a[i] - b[i]);
+    den += a[i] * a[i];
+  }
   out << "relative L2 difference explicit/implicit: " << std::sqrt(num / den) << "\n";
   TEST_COMPARE(std::sqrt(num / den), <, 0.01);
 }
@@ -354,14 +379,17 @@ TEUCHOS_UNIT_TEST(Implicit, DistributedMatchesSerial) {
     d.sublist("Implicit Solver").set("Jacobian", "Assembled");
     d.sublist("Implicit Solver").set("Displacement Tolerance", 1e-13);
     const RunResult distributed = runDeck(d, comm, out);
-    d.sublist("Problem").set("Output Directory", "test_output/implicit_np_self_" + method + "_" +
-                                                     std::to_string(comm->getRank()));
+    d.sublist("Problem").set("Output Directory",
+                             "test_output/implicit_np_self_" + method + "_" + std::to_string(comm->getRank()));
     const RunResult serial = runDeck(d, self, out);
     for (const std::string name : {"ux_L", "ux_half"}) {
       const auto& a = distributed.computed.at(name);
       const auto& b = serial.computed.at(name);
       double maxDiff = 0, scale = 0;
-      for (size_t i = 0; i < a.size(); ++i) { maxDiff = std::max(maxDiff, std::abs(a[i] - b[i])); scale = std::max(scale, std::abs(b[i])); }
+      for (size_t i = 0; i < a.size(); ++i) {
+        maxDiff = std::max(maxDiff, std::abs(a[i] - b[i]));
+        scale = std::max(scale, std::abs(b[i]));
+      }
       out << method << " " << name << ": max |u(np) - u(serial)| / max |u| = " << maxDiff / scale << "\n";
       TEST_COMPARE(maxDiff / scale, <, 1e-10);
     }

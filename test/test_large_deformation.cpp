@@ -58,7 +58,8 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   deck->sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
   if (adjust) adjust(*deck);
   auto comm = Tpetra::getDefaultComm();
-  const std::string dir = "test_output/column_" + shape + "_" + model.substr(0, 3) + "_" + std::to_string(cellsY) + (adjust ? "_adjusted" : "");
+  const std::string dir = "test_output/column_" + shape + "_" + model.substr(0, 3) + "_" + std::to_string(cellsY) +
+                          (adjust ? "_adjusted" : "");
   if (outputDir) *outputDir = dir;
   impm::Simulation sim(*deck, comm, dir);
   const impm::RunResult r = impm_test::runToCompletion(sim, "column");
@@ -101,9 +102,10 @@ ColumnErrors runColumn(const std::string& shape, int cellsY, const std::string& 
   // The solver's figures, from summary.yaml.
   e.newtonMean = impm_test::summaryValue(dir, "Newton Iterations Mean");
   e.krylovMean = impm_test::summaryValue(dir, "Krylov Iterations Per Newton Mean");
-  out << std::setprecision(4) << shape << " " << model << " column, " << cellsY << " cells: sigma_yy relative L2 " << e.stressL2
-      << ", top settlement " << e.topSettlement << " m (exact " << exactTop << ", error " << e.topRelative
-      << ", largest while the load is held " << e.topHoldMax << "); JFNK: " << e.newtonMean << " Newton iterations per step, " << e.krylovMean << " GMRES per Newton\n";
+  out << std::setprecision(4) << shape << " " << model << " column, " << cellsY << " cells: sigma_yy relative L2 "
+      << e.stressL2 << ", top settlement " << e.topSettlement << " m (exact " << exactTop << ", error " << e.topRelative
+      << ", largest while the load is held " << e.topHoldMax << "); JFNK: " << e.newtonMean
+      << " Newton iterations per step, " << e.krylovMean << " GMRES per Newton\n";
   return e;
 }
 
@@ -124,7 +126,8 @@ std::vector<double> hardestStepNorms(const std::string& dir) {
 
 // The observed order log(r_k+1 / r_k) / log(r_k / r_k-1) of Newton's convergence over the last
 // three norms above round-off (1e-12 of the first); 0 when there are fewer than three.
-double newtonOrder(const std::vector<double>& norms, const std::string& label, Teuchos::FancyOStream& out, bool& success) {
+double newtonOrder(const std::vector<double>& norms, const std::string& label, Teuchos::FancyOStream& out,
+                   bool& success) {
   out << label << ": residual norms:";
   for (double r : norms) out << " " << r;
   out << "\n";
@@ -146,8 +149,8 @@ TEUCHOS_UNIT_TEST(LargeDeformation, NeoHookeanColumnCpGimpConverges) {
   const ColumnErrors fine = runColumn("cpGIMP", 40, "Neo-Hookean", out);
   // The top settles by ~12.5% of the height (the base is compressed by ~22%): finite strain.
   TEST_COMPARE(std::abs(fine.topSettlement), >, 0.1);
-  out << "observed orders of the sigma_yy error: " << std::log(coarse.stressL2 / medium.stressL2) / std::log(2.0) << " (10 -> 20), "
-      << std::log(medium.stressL2 / fine.stressL2) / std::log(2.0) << " (20 -> 40 cells)\n";
+  out << "observed orders of the sigma_yy error: " << std::log(coarse.stressL2 / medium.stressL2) / std::log(2.0)
+      << " (10 -> 20), " << std::log(medium.stressL2 / fine.stressL2) / std::log(2.0) << " (20 -> 40 cells)\n";
   TEST_COMPARE(fine.stressL2, <, medium.stressL2);
   TEST_COMPARE(medium.stressL2, <, coarse.stressL2);
   // Measured 0.3% at 40 cells; the bound leaves room for the quasi-static steps' inertia.
@@ -203,8 +206,8 @@ TEUCHOS_UNIT_TEST(LargeDeformation, CpdiColumn3dAndExplicit) {
   const auto h3 = impm_test::runDeck(*toSolid(base("test_output/column_cpdi_3d")));
   const double top2 = h2.at("top settlement").back(), top3 = h3.at("top settlement").back();
   const double base2 = h2.at("base stress").back(), base3 = h3.at("base stress").back();
-  out << "CPDI column: top settlement 2D " << top2 << " m, 3D " << top3 << " m; base stress 2D " << base2 << " Pa, 3D " << base3
-      << " Pa\n";
+  out << "CPDI column: top settlement 2D " << top2 << " m, 3D " << top3 << " m; base stress 2D " << base2 << " Pa, 3D "
+      << base3 << " Pa\n";
   TEST_COMPARE(std::abs(top2), >, 0.1);
   TEST_FLOATING_EQUALITY(top3, top2, 1e-6);
   TEST_FLOATING_EQUALITY(base3, base2, 1e-6);
@@ -220,8 +223,8 @@ TEUCHOS_UNIT_TEST(LargeDeformation, CpdiColumn3dAndExplicit) {
   const auto cpdi = dynamic("CPDI", false), cpgimp = dynamic("cpGIMP", false), cpdi3 = dynamic("CPDI", true);
   const double topCpdi = cpdi.at("top settlement").back(), topCpgimp = cpgimp.at("top settlement").back();
   const double exact = h2.at("top settlement_exact").back();
-  out << "explicit column at t = 1.2 s: top settlement CPDI " << topCpdi << " m, cpGIMP " << topCpgimp << " m, static exact "
-      << exact << " m\n";
+  out << "explicit column at t = 1.2 s: top settlement CPDI " << topCpdi << " m, cpGIMP " << topCpgimp
+      << " m, static exact " << exact << " m\n";
   // Both oscillate about the static solution by the ramp's overshoot (measured 2%).
   TEST_FLOATING_EQUALITY(topCpdi, topCpgimp, 0.01);
   TEST_FLOATING_EQUALITY(topCpdi, exact, 0.05);
@@ -248,7 +251,8 @@ TEUCHOS_UNIT_TEST(LargeDeformation, J2ColumnMatchesTheElastoplasticSolution) {
   const ColumnErrors medium = runColumn("cpGIMP", 20, "J2 Plasticity", out);
   const ColumnErrors fine = runColumn("cpGIMP", 40, "J2 Plasticity", out);
   const ColumnErrors elastic = runColumn("cpGIMP", 40, "Neo-Hookean", out);
-  TEST_COMPARE(std::abs(fine.topSettlement), >, 1.1 * std::abs(elastic.topSettlement));  // measured 0.148 m against 0.125 m
+  TEST_COMPARE(std::abs(fine.topSettlement), >,
+               1.1 * std::abs(elastic.topSettlement));  // measured 0.148 m against 0.125 m
   TEST_COMPARE(fine.stressL2, <, medium.stressL2);
   TEST_COMPARE(fine.stressL2, <, 0.01);
   TEST_COMPARE(fine.topHoldMax, <, 0.002);  // measured 0.148% at most while the load is held
@@ -270,9 +274,10 @@ TEUCHOS_UNIT_TEST(LargeDeformation, AdaptiveTimeStepRecoversFromFailedNewton) {
         deck.sublist("Implicit Solver").set("Maximum Newton Iterations", 5);
       },
       &dir);
-  const double rejected = impm_test::summaryValue(dir, "Rejected Sub-Steps"), subSteps = impm_test::summaryValue(dir, "Sub-Steps");
-  out << "adaptive: " << subSteps << " sub-steps, " << rejected << " rejected, smallest " << impm_test::summaryValue(dir, "Smallest Sub-Step")
-      << " s\n";
+  const double rejected = impm_test::summaryValue(dir, "Rejected Sub-Steps"),
+               subSteps = impm_test::summaryValue(dir, "Sub-Steps");
+  out << "adaptive: " << subSteps << " sub-steps, " << rejected << " rejected, smallest "
+      << impm_test::summaryValue(dir, "Smallest Sub-Step") << " s\n";
   TEST_COMPARE(rejected, >=, 1.0);
   TEST_COMPARE(subSteps, >=, 2.0);
   TEST_COMPARE(adaptive.topRelative, <, 0.005);
@@ -287,12 +292,13 @@ TEUCHOS_UNIT_TEST(LargeDeformation, AssembledNewtonConvergesQuadratically) {
   // The same with CPDI (its own 4 x 4 node blocks).
   for (const std::string shape : {"cpGIMP", "CPDI"}) {
     std::string dir;
-    runColumn(shape, 20, "Neo-Hookean", out, 400.0,
-              [](ParameterList& deck) {
-                deck.sublist("Integrator").set("Time Step", 10.0).set("Number of Steps", 1);
-                deck.sublist("Implicit Solver").set("Jacobian", "Assembled");
-              },
-              &dir);
+    runColumn(
+        shape, 20, "Neo-Hookean", out, 400.0,
+        [](ParameterList& deck) {
+          deck.sublist("Integrator").set("Time Step", 10.0).set("Number of Steps", 1);
+          deck.sublist("Implicit Solver").set("Jacobian", "Assembled");
+        },
+        &dir);
     const double order = newtonOrder(hardestStepNorms(dir), shape, out, success);
     TEST_COMPARE(order, >=, 1.8);
   }
@@ -309,12 +315,13 @@ TEUCHOS_UNIT_TEST(LargeDeformation, J2AssembledNewtonConvergesQuadratically) {
   // failed even with dt halved 4 times.
   for (const int steps : {1, 24}) {
     std::string dir;
-    const ColumnErrors e = runColumn("cpGIMP", 20, "J2 Plasticity", out, 400.0,
-                                     [steps](ParameterList& deck) {
-                                       if (steps == 1) deck.sublist("Integrator").set("Time Step", 10.0).set("Number of Steps", 1);
-                                       deck.sublist("Implicit Solver").set("Jacobian", "Assembled");
-                                     },
-                                     &dir);
+    const ColumnErrors e = runColumn(
+        "cpGIMP", 20, "J2 Plasticity", out, 400.0,
+        [steps](ParameterList& deck) {
+          if (steps == 1) deck.sublist("Integrator").set("Time Step", 10.0).set("Number of Steps", 1);
+          deck.sublist("Implicit Solver").set("Jacobian", "Assembled");
+        },
+        &dir);
     const double order = newtonOrder(hardestStepNorms(dir), "J2, " + std::to_string(steps) + " step(s)", out, success);
     TEST_COMPARE(order, >=, 1.8);
     TEST_COMPARE(e.newtonMean, <=, 6.0);
@@ -378,7 +385,8 @@ TEUCHOS_UNIT_TEST(LargeDeformation, PreconditionerRefreshPolicies) {
   const ColumnErrors perStep = run(oneStep(false), perStepAssemblies);
   const ColumnErrors everyNewton = run(oneStep(true), everyNewtonAssemblies);
   out << "GMRES per Newton: preconditioner per step " << perStep.krylovMean << " (" << perStepAssemblies
-      << " assembly), per Newton iterate " << everyNewton.krylovMean << " (" << everyNewtonAssemblies << " assemblies)\n";
+      << " assembly), per Newton iterate " << everyNewton.krylovMean << " (" << everyNewtonAssemblies
+      << " assemblies)\n";
   TEST_EQUALITY(perStepAssemblies, 1.0);
   TEST_COMPARE(everyNewtonAssemblies, >, 2.0);
   TEST_COMPARE(everyNewton.krylovMean, <=, perStep.krylovMean);
@@ -387,14 +395,17 @@ TEUCHOS_UNIT_TEST(LargeDeformation, PreconditionerRefreshPolicies) {
   // rebuilt at every one of the 24 steps once the GMRES threshold is below what it needs.
   auto lagged = [](int threshold) {
     return [threshold](ParameterList& deck) {
-      deck.sublist("Integrator").sublist("Implicit").set("Preconditioner Refresh Interval", 100)
+      deck.sublist("Integrator")
+          .sublist("Implicit")
+          .set("Preconditioner Refresh Interval", 100)
           .set("Preconditioner Refresh GMRES Threshold", threshold);
     };
   };
   double laggedAssemblies = 0, thresholdAssemblies = 0;
   run(lagged(0), laggedAssemblies);
   run(lagged(1), thresholdAssemblies);
-  out << "assemblies over 24 steps: lagged " << laggedAssemblies << ", with a GMRES threshold of 1 " << thresholdAssemblies << "\n";
+  out << "assemblies over 24 steps: lagged " << laggedAssemblies << ", with a GMRES threshold of 1 "
+      << thresholdAssemblies << "\n";
   TEST_COMPARE(laggedAssemblies, <, 24.0);
   TEST_EQUALITY(thresholdAssemblies, 24.0);
 }

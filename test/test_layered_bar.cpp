@@ -197,8 +197,8 @@ TEUCHOS_UNIT_TEST(LayeredBar, BoundaryConditions) {
       worstS = std::max(worstS, std::abs(right.stress - kS) / kS);
       maxTip = std::max(maxTip, std::abs(right.displacement) / uScale);
     }
-    out << segs.size() << " segments: max |u(0)| " << worstU << ", |v(0)| " << worstV
-        << ", |stress(L) - F0/A| " << worstS << " (scaled); max |u(L)| / scale " << maxTip << "\n";
+    out << segs.size() << " segments: max |u(0)| " << worstU << ", |v(0)| " << worstV << ", |stress(L) - F0/A| "
+        << worstS << " (scaled); max |u(L)| / scale " << maxTip << "\n";
     TEST_COMPARE(worstU, <=, 1e-13);
     TEST_COMPARE(worstV, <=, 1e-13);
     TEST_COMPARE(worstS, <=, 1e-13);
@@ -242,8 +242,8 @@ TEUCHOS_UNIT_TEST(LayeredBar, EnergyBalance) {
 TEUCHOS_UNIT_TEST(LayeredBar, RejectsBadInput) {
   // Exceptions, no tolerance involved.
   TEST_THROW(LayeredBarExact({}, kA, kF0, 1e-5), std::invalid_argument);
-  TEST_THROW(LayeredBarExact({steel(0.001, kL)}, kA, kF0, 1e-5), std::invalid_argument);  // not at 0
-  TEST_THROW(LayeredBarExact({steel(0, 0.01), steel(0.012, kL)}, kA, kF0, 1e-5), std::invalid_argument);  // gap
+  TEST_THROW(LayeredBarExact({steel(0.001, kL)}, kA, kF0, 1e-5), std::invalid_argument);                   // not at 0
+  TEST_THROW(LayeredBarExact({steel(0, 0.01), steel(0.012, kL)}, kA, kF0, 1e-5), std::invalid_argument);   // gap
   TEST_THROW(LayeredBarExact({steel(0, 0.01), steel(0.01, 0.01)}, kA, kF0, 1e-5), std::invalid_argument);  // empty
   TEST_THROW(LayeredBarExact({Segment{0, kL, -1.0, 7800}}, kA, kF0, 1e-5), std::invalid_argument);
   TEST_THROW(LayeredBarExact({Segment{0, kL, 200e9, 0.0}}, kA, kF0, 1e-5), std::invalid_argument);
@@ -256,7 +256,7 @@ TEUCHOS_UNIT_TEST(LayeredBar, RejectsBadInput) {
   TEST_THROW(bar.stress(-1e-9, 1e-6), std::out_of_range);
   TEST_THROW(bar.stress(kL * 1.01, 1e-6), std::out_of_range);
   TEST_THROW(bar.stress(0.01, 2e-5), std::out_of_range);  // beyond tMax
-  TEST_EQUALITY_CONST(bar.stress(0.01, -1e-6), 0.0);        // before the load
+  TEST_EQUALITY_CONST(bar.stress(0.01, -1e-6), 0.0);      // before the load
   TEST_EQUALITY(bar.segmentOf(0.0), 0);
   TEST_EQUALITY(bar.segmentOf(0.015), 0);  // an interface belongs to the left segment
   TEST_EQUALITY(bar.segmentOf(0.0150001), 1);

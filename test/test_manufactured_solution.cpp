@@ -33,7 +33,8 @@ struct MmsRun {
 
 // The deck at `cells` per side: dt = 0.02 s / (stepsPerCell cells) keeps the time error below
 // the spatial one (explicit: a fifth of the stable step; implicit: omega dt = 0.025 at 32 cells).
-MmsRun runMms(const std::string& shape, int cells, const std::string& integrator, Teuchos::FancyOStream& out, int dim = 2) {
+MmsRun runMms(const std::string& shape, int cells, const std::string& integrator, Teuchos::FancyOStream& out,
+              int dim = 2) {
   auto deck = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/mms_explicit_cpgimp_neohookean.yaml");
   const double h = 1.0 / cells;
   ParameterList& grid = deck->sublist("Grid");
@@ -51,16 +52,18 @@ MmsRun runMms(const std::string& shape, int cells, const std::string& integrator
   deck->sublist("Integrator").set("Type", integrator).set("Time Step", 0.02 / steps).set("Number of Steps", steps);
   deck->sublist("Output").set("Plot", false).set("Progress", false).set("History Interval", std::max(1, steps / 40));
   impm::validateDeck(*deck);
-  const std::string dir = "test_output/mms_" + integrator + "_" + shape + "_" + std::to_string(dim) + "d_" + std::to_string(cells);
+  const std::string dir =
+      "test_output/mms_" + integrator + "_" + shape + "_" + std::to_string(dim) + "d_" + std::to_string(cells);
   impm::Simulation sim(*deck, Tpetra::getDefaultComm(), dir);
   const impm::RunResult r = impm_test::runToCompletion(sim, "manufactured-solution");
   MmsRun m;
   m.peakRms = r.fieldErrorRmsPeak;
   m.newtonMean = impm_test::summaryValue(dir, "Newton Iterations Mean");
   m.krylovMean = impm_test::summaryValue(dir, "Krylov Iterations Per Newton Mean");
-  out << std::setprecision(4) << integrator << " " << shape << " " << dim << "D, " << cells << " cells: peak RMS displacement error "
-      << m.peakRms << " m (A = 0.025 m)";
-  if (integrator == "Implicit") out << "; JFNK " << m.newtonMean << " Newton per step, " << m.krylovMean << " GMRES per Newton";
+  out << std::setprecision(4) << integrator << " " << shape << " " << dim << "D, " << cells
+      << " cells: peak RMS displacement error " << m.peakRms << " m (A = 0.025 m)";
+  if (integrator == "Implicit")
+    out << "; JFNK " << m.newtonMean << " Newton per step, " << m.krylovMean << " GMRES per Newton";
   out << "\n";
   return m;
 }
@@ -74,7 +77,8 @@ double order(double coarse, double fine) { return std::log2(coarse / fine); }
 TEUCHOS_UNIT_TEST(ManufacturedSolution, BodyForceBalancesMomentumWithTheNeoHookeanLaw) {
   for (int dim : {2, 3}) {
     impm::MaterialParameters rubber{1e7, 0.3, 1000, impm::MaterialModel::NeoHookean};
-    const impm::NeoHookeanModel law{rubber.E * rubber.nu / ((1 + rubber.nu) * (1 - 2 * rubber.nu)), rubber.E / (2 * (1 + rubber.nu))};
+    const impm::NeoHookeanModel law{rubber.E * rubber.nu / ((1 + rubber.nu) * (1 - 2 * rubber.nu)),
+                                    rubber.E / (2 * (1 + rubber.nu))};
     impm::AxisAlignedManufactured f;
     f.dim = dim;
     f.amplitude = 0.025;
@@ -116,7 +120,8 @@ TEUCHOS_UNIT_TEST(ManufacturedSolution, BodyForceBalancesMomentumWithTheNeoHooke
                                     std::abs(dudt - f.velocity(X, t, d)) / (f.amplitude * f.omega)});
       }
     }
-    out << dim << "D: largest momentum residual " << worst << " of mu (2 pi)^2 A / L^2; kinematics " << worstKinematics << "\n";
+    out << dim << "D: largest momentum residual " << worst << " of mu (2 pi)^2 A / L^2; kinematics " << worstKinematics
+        << "\n";
     TEST_COMPARE(worst, <, 1e-6);
     TEST_COMPARE(worstKinematics, <, 1e-6);
   }

@@ -176,8 +176,10 @@ void checkNeoHookean(Teuchos::FancyOStream& out, bool& success) {
     for (int v = 0; v < SL::voigt; ++v) {
       double G[Dim][Dim] = {};
       const int i = SL::first(v), j = SL::second(v);
-      if (i == j) G[i][i] = 1.0;
-      else G[i][j] = G[j][i] = 0.5;
+      if (i == j)
+        G[i][i] = 1.0;
+      else
+        G[i][j] = G[j][i] = 0.5;
       double Fp[Dim][Dim], Fm[Dim][Dim], tp[SL::count], tm[SL::count];
       for (int a = 0; a < Dim; ++a)
         for (int b = 0; b < Dim; ++b) {
@@ -191,8 +193,7 @@ void checkNeoHookean(Teuchos::FancyOStream& out, bool& success) {
       for (int r = 0; r < SL::voigt; ++r) {
         const int a = SL::first(r), b = SL::second(r);
         double convected = 0;  // (G tau + tau G^T)_ab
-        for (int k = 0; k < Dim; ++k)
-          convected += G[a][k] * tau[SL::index(k, b)] + tau[SL::index(a, k)] * G[b][k];
+        for (int k = 0; k < Dim; ++k) convected += G[a][k] * tau[SL::index(k, b)] + tau[SL::index(a, k)] * G[b][k];
         const double lie = (tp[r] - tm[r]) / (2 * h) - convected;
         worstTangent = std::max(worstTangent, std::abs(lie - J * D[r][v]) / mu);
       }
@@ -218,7 +219,8 @@ TEUCHOS_UNIT_TEST(Material, NeoHookeanSolidStressAndTangent) { checkNeoHookean<3
 // Proportional loading in fixed principal axes, rotated by R: with logarithmic strains the
 // return map is exactly the small-strain one, so the Kirchhoff stress must equal the closed-form
 // small-strain J2 solution evaluated at the log strains, K tr(e) I + q n with
-//   q = 2 mu |dev e| (elastic) or 2 mu (|dev e| - Gamma), Gamma = (2 mu |dev e| - sqrt(2/3) sigma_y) / (2 mu + 2 H / 3),
+//   q = 2 mu |dev e| (elastic) or 2 mu (|dev e| - Gamma), Gamma = (2 mu |dev e| - sqrt(2/3) sigma_y) / (2 mu + 2 H /
+//   3),
 // and alpha = sqrt(2/3) Gamma: to round-off, after 40 steps that cross the yield point.
 template <int Dim>
 void checkJ2Proportional(Teuchos::FancyOStream& out, bool& success) {
@@ -305,7 +307,8 @@ TEUCHOS_UNIT_TEST(Material, J2ReturnIsOnTheYieldSurfaceAndIsochoric) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) be[i][j] = driver.h[StressLayout<3>::index(i, j)];
     TEST_FLOATING_EQUALITY(std::sqrt(determinant<3>(be)), J, 1e-10);
-    out << "step " << k << ": J = " << J << ", |dev tau| / radius = " << std::sqrt(q2) / radius << ", alpha = " << driver.h[6] << "\n";
+    out << "step " << k << ": J = " << J << ", |dev tau| / radius = " << std::sqrt(q2) / radius
+        << ", alpha = " << driver.h[6] << "\n";
   }
 }
 
@@ -346,7 +349,12 @@ void checkJ2Tangent(Teuchos::FancyOStream& out, bool& success) {
 
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    struct Case { const char* name; const ElastoplasticDriver<Dim>* from; double G[Dim][Dim]; bool plastic; };
+    struct Case {
+      const char* name;
+      const ElastoplasticDriver<Dim>* from;
+      double G[Dim][Dim];
+      bool plastic;
+    };
     Case cases[4];
     cases[0] = {"elastic unloading", &yielded, {}, false};  // back by a 25th of the last step
     cases[1] = {"plastic, random direction", &yielded, {}, true};
@@ -411,7 +419,8 @@ void checkJ2Tangent(Teuchos::FancyOStream& out, bool& success) {
         double convected = 0, cd = 0, cde = 0;
         for (int k = 0; k < Dim; ++k) convected += L[a][k] * tau0[SL::index(k, b)] + tau0[SL::index(a, k)] * L[b][k];
         for (int v = 0; v < SL::voigt; ++v) {
-          const double strain = SL::first(v) == SL::second(v) ? L[SL::first(v)][SL::first(v)] : 2 * L[SL::first(v)][SL::second(v)];
+          const double strain =
+              SL::first(v) == SL::second(v) ? L[SL::first(v)][SL::first(v)] : 2 * L[SL::first(v)][SL::second(v)];
           cd += J * D[r][v] * strain;
           cde += J * De[r][v] * strain;
         }

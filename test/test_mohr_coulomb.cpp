@@ -58,7 +58,8 @@ void checkElementTest(const char* name, int dim, double axialEnd, double c, doub
   const double sigma3 = 1.0e5, N = flowFactor(phi), sp = std::sin(psi * kDegree);
   const Materials materials({soil(c, phi, psi)}, dim == 2 ? PlaneCondition::PlaneStrain : PlaneCondition::Solid);
   const int steps = int(std::abs(axialEnd) * 1000);
-  const ElementTest r = dim == 2 ? compress<2>(materials, sigma3, axialEnd, steps) : compress<3>(materials, sigma3, axialEnd, steps);
+  const ElementTest r =
+      dim == 2 ? compress<2>(materials, sigma3, axialEnd, steps) : compress<3>(materials, sigma3, axialEnd, steps);
   const bool extension = axialEnd > 0;
   // Extension: the lateral stress sigma3 is the major one and the axial one the minor.
   const double strength = extension ? (sigma3 - 2 * c * std::sqrt(N)) / N : N * sigma3 + 2 * c * std::sqrt(N);
@@ -66,8 +67,9 @@ void checkElementTest(const char* name, int dim, double axialEnd, double c, doub
   const double strengthError = std::abs(r.strength - strength) / strength;
   const double dilatancyError = std::abs(r.dilatancy - dilatancy);
   out << name << ", c = " << c << " Pa, phi = " << phi << ", psi = " << psi << ": axial stress " << r.strength
-      << " Pa against Mohr-Coulomb " << strength << " (relative error " << strengthError << "); d(eps_v)/d(eps_axial) = "
-      << r.dilatancy << " against " << dilatancy << " (error " << dilatancyError << "); alpha = " << r.alpha << "\n";
+      << " Pa against Mohr-Coulomb " << strength << " (relative error " << strengthError
+      << "); d(eps_v)/d(eps_axial) = " << r.dilatancy << " against " << dilatancy << " (error " << dilatancyError
+      << "); alpha = " << r.alpha << "\n";
   TEST_COMPARE(r.alpha, >, 0.02);  // well into plastic flow
   TEST_COMPARE(strengthError, <, 1e-8);
   TEST_COMPARE(dilatancyError, <, 1e-6);
@@ -111,8 +113,8 @@ TEUCHOS_UNIT_TEST(MohrCoulomb, IsotropicTensionReturnsToAnApex) {
       double dev = 0;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) dev += std::pow(tauOf(d, i, j) - (i == j ? p : 0.0), 2);
-      out << "c = " << c << ", cutoff " << t << ": p = " << p << " (apex " << apex << "), |dev tau| = " << std::sqrt(dev)
-          << ", alpha = " << d.h[kHenckyInternal] << "\n";
+      out << "c = " << c << ", cutoff " << t << ": p = " << p << " (apex " << apex
+          << "), |dev tau| = " << std::sqrt(dev) << ", alpha = " << d.h[kHenckyInternal] << "\n";
       TEST_COMPARE(std::abs(p - apex), <=, 1e-9 * (1e4 + c));
       TEST_COMPARE(std::sqrt(dev), <=, 1e-9 * (1e4 + c));
       // psi > 0: the Mohr-Coulomb apex is plastic volumetric flow; the cutoff leaves alpha alone.
@@ -133,8 +135,8 @@ TEUCHOS_UNIT_TEST(MohrCoulomb, UniaxialTensionStopsAtTheCutoff) {
     d.stepTo(F);
     worst = std::max(worst, tauOf(d, 0, 0) - t);
   }
-  out << "axial tau = " << tauOf(d, 0, 0) << " Pa (cutoff " << t << "), lateral " << tauOf(d, 1, 1) << ", " << tauOf(d, 2, 2)
-      << "; largest excess over the steps " << worst << " Pa\n";
+  out << "axial tau = " << tauOf(d, 0, 0) << " Pa (cutoff " << t << "), lateral " << tauOf(d, 1, 1) << ", "
+      << tauOf(d, 2, 2) << "; largest excess over the steps " << worst << " Pa\n";
   TEST_COMPARE(std::abs(tauOf(d, 0, 0) - t), <=, 1e-9 * t);
   TEST_COMPARE(worst, <=, 1e-9 * t);
   TEST_COMPARE(tauOf(d, 1, 1), <, t);
@@ -148,7 +150,8 @@ TEUCHOS_UNIT_TEST(MohrCoulomb, CohesionSoftensToItsResidual) {
   const ElementTest r = compress<3>(materials, sigma3, -0.15, 150);
   const double N = flowFactor(30.0), residualStrength = N * sigma3 + 2 * cr * std::sqrt(N);
   out << "softened: sigma_1 = " << r.strength << " Pa, residual Mohr-Coulomb " << residualStrength << ", peak "
-      << N * sigma3 + 2 * c * std::sqrt(N) << ", alpha = " << r.alpha << " (c reaches c_r at alpha = " << (cr - c) / H << ")\n";
+      << N * sigma3 + 2 * c * std::sqrt(N) << ", alpha = " << r.alpha << " (c reaches c_r at alpha = " << (cr - c) / H
+      << ")\n";
   TEST_COMPARE(r.alpha, >, (cr - c) / H);
   TEST_FLOATING_EQUALITY(r.strength, residualStrength, 1e-8);
 }
@@ -177,7 +180,12 @@ void checkTangent(Teuchos::FancyOStream& out, bool& success) {
       const ElastoplasticDriver<Dim> virgin(materials.law());
       std::mt19937 rng(11);
       std::uniform_real_distribution<double> u(-1.0, 1.0);
-      struct Case { const char* name; const ElastoplasticDriver<Dim>* from; double G[Dim][Dim]; bool hardens; };
+      struct Case {
+        const char* name;
+        const ElastoplasticDriver<Dim>* from;
+        double G[Dim][Dim];
+        bool hardens;
+      };
       // The cutoff does not change alpha: with one, the stretches harden only with a plane active.
       Case cases[8] = {{"elastic unloading", &yielded, {}, false},
                        {"planes, small step", &yielded, {}, true},
@@ -205,8 +213,8 @@ void checkTangent(Teuchos::FancyOStream& out, bool& success) {
         bool hardens = false;
         double fromElastic = 0;
         const double worst = tangentMismatch<Dim>(*c.from, c.G, mu, hardens, fromElastic);
-        out << Dim << "D Mohr-Coulomb (H = " << H << ", cutoff " << t << "), " << c.name << ": |Lie rate - J D| <= " << worst
-            << " mu; |D - D_elastic| J = " << fromElastic << " mu\n";
+        out << Dim << "D Mohr-Coulomb (H = " << H << ", cutoff " << t << "), " << c.name
+            << ": |Lie rate - J D| <= " << worst << " mu; |D - D_elastic| J = " << fromElastic << " mu\n";
         TEST_EQUALITY(hardens, c.hardens);
         TEST_COMPARE(worst, <, 1e-6);
         if (&c != &cases[0]) TEST_COMPARE(fromElastic, >, 0.1);  // every other step is plastic

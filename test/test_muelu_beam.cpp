@@ -37,7 +37,11 @@ BeamRun runBeam(int nx, const std::string& preconditioner, int steps, Teuchos::F
   auto deck = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/beam_implicit_mpm_plane_strain.yaml");
   impm::validateDeck(*deck);
   const int ny = nx / 10;
-  deck->sublist("Grid").set("Cells X", nx).set("Cells Y", ny).set("Cell Size X", 10.0 / nx).set("Cell Size Y", 0.5 / ny);
+  deck->sublist("Grid")
+      .set("Cells X", nx)
+      .set("Cells Y", ny)
+      .set("Cell Size X", 10.0 / nx)
+      .set("Cell Size Y", 0.5 / ny);
   deck->sublist("Integrator").set("Number of Steps", steps);
   ParameterList& solver = deck->sublist("Implicit Solver");
   solver.set("Preconditioner", preconditioner);
@@ -281,4 +285,3 @@ TEUCHOS_UNIT_TEST(MueLuBeam, BadMueLuListsAreRefusedNamingTheKey) {
 }
 
 }  // namespace
-

@@ -19,12 +19,26 @@ using Teuchos::ParameterList;
 
 ParameterList blockDeck(double beta, double gamma) {
   ParameterList d("impm");
-  d.sublist("Grid").set("Origin X", -0.5).set("Origin Y", -2.0).set("Cells X", 8).set("Cells Y", 12)
-      .set("Cell Size X", 0.25).set("Cell Size Y", 0.25);
-  d.sublist("Material").set("Young Modulus", 1.0e6).set("Poisson Ratio", 0.3).set("Density", 1.0)
-      .set("Plane Condition", "Plane Strain").set("Thickness", 1.0);
-  d.sublist("Body").set("X Min", 0.0).set("X Max", 1.0).set("Y Min", 0.0).set("Y Max", 0.5)
-      .set("Particles Per Cell X", 2).set("Particles Per Cell Y", 2);
+  d.sublist("Grid")
+      .set("Origin X", -0.5)
+      .set("Origin Y", -2.0)
+      .set("Cells X", 8)
+      .set("Cells Y", 12)
+      .set("Cell Size X", 0.25)
+      .set("Cell Size Y", 0.25);
+  d.sublist("Material")
+      .set("Young Modulus", 1.0e6)
+      .set("Poisson Ratio", 0.3)
+      .set("Density", 1.0)
+      .set("Plane Condition", "Plane Strain")
+      .set("Thickness", 1.0);
+  d.sublist("Body")
+      .set("X Min", 0.0)
+      .set("X Max", 1.0)
+      .set("Y Min", 0.0)
+      .set("Y Max", 0.5)
+      .set("Particles Per Cell X", 2)
+      .set("Particles Per Cell Y", 2);
   d.sublist("Integrator").set("Type", "Implicit").set("Time Step", 0.05).set("Number of Steps", 10);
   d.sublist("Integrator").sublist("Implicit").set("Newmark Beta", beta).set("Newmark Gamma", gamma);
   d.sublist("Implicit Solver").set("Jacobian", "Assembled");
@@ -50,7 +64,11 @@ TEUCHOS_UNIT_TEST(Newmark, FreeFallIsExactForAnyBetaAndGamma) {
   const double g = -10.0, T = 0.5;
   for (const auto& [beta, gamma] : {std::pair{0.25, 0.5}, std::pair{0.3025, 0.6}, std::pair{0.4, 0.7}}) {
     ParameterList d = blockDeck(beta, gamma);
-    d.sublist("Loads").sublist("gravity").set("Type", "Body Force").set("Acceleration Y", g).set("Time Function", "Constant");
+    d.sublist("Loads")
+        .sublist("gravity")
+        .set("Type", "Body Force")
+        .set("Acceleration Y", g)
+        .set("Time Function", "Constant");
     impm::validateDeck(d);
     impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/newmark_fall");
     std::ostringstream log;
@@ -65,7 +83,8 @@ TEUCHOS_UNIT_TEST(Newmark, FreeFallIsExactForAnyBetaAndGamma) {
       du = std::max({du, std::abs(x(p, 1) - x0(p, 1) - 0.5 * g * T * T), std::abs(x(p, 0) - x0(p, 0))});
       dv = std::max({dv, std::abs(v(p, 1) - g * T), std::abs(v(p, 0))});
     }
-    out << "beta " << beta << " gamma " << gamma << ": displacement error " << du << " m, velocity error " << dv << " m/s\n";
+    out << "beta " << beta << " gamma " << gamma << ": displacement error " << du << " m, velocity error " << dv
+        << " m/s\n";
     TEST_COMPARE(du, <, 1e-9);
     TEST_COMPARE(dv, <, 1e-9);
   }
@@ -83,10 +102,20 @@ TEUCHOS_UNIT_TEST(Newmark, GammaAboveOneHalfDampsTheSawtooth) {
     ParameterList d = blockDeck(beta, gamma);
     d.sublist("Grid").set("Origin Y", -0.25).set("Cells Y", 4);
     d.sublist("Integrator").set("Time Step", 1.0).set("Number of Steps", 30);
-    d.sublist("Constraints").sublist("base").set("Where", "Box").set("X Min", -1.0).set("X Max", 2.0)
-        .set("Y Min", 0.0).set("Y Max", 0.0).set("Components", "all");
-    d.sublist("Loads").sublist("gravity").set("Type", "Body Force").set("Acceleration Y", -10.0)
-        .set("Time Function", "Ramp").set("Ramp Time", 2.0);
+    d.sublist("Constraints")
+        .sublist("base")
+        .set("Where", "Box")
+        .set("X Min", -1.0)
+        .set("X Max", 2.0)
+        .set("Y Min", 0.0)
+        .set("Y Max", 0.0)
+        .set("Components", "all");
+    d.sublist("Loads")
+        .sublist("gravity")
+        .set("Type", "Body Force")
+        .set("Acceleration Y", -10.0)
+        .set("Time Function", "Ramp")
+        .set("Ramp Time", 2.0);
     const impm::RunResult r = run(d);
     TEST_EQUALITY_CONST(r.status, "completed");
     const auto& R = r.reactions.at("base_reaction_y");

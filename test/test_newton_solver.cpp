@@ -148,7 +148,8 @@ class NewmarkBar : public impm::ResidualModel {
     {
       auto uh = u.getLocalViewHost(Tpetra::Access::ReadOnly);
       auto sh = sum.getLocalViewHost(Tpetra::Access::ReadWrite);
-      for (size_t i = 0; i < uh.extent(0); ++i) sh(i, 0) += std::fabs(c_ * uh(i, 0) * uh(i, 0) * uh(i, 0)) + std::fabs(load_);
+      for (size_t i = 0; i < uh.extent(0); ++i)
+        sh(i, 0) += std::fabs(c_ * uh(i, 0) * uh(i, 0) * uh(i, 0)) + std::fabs(load_);
     }
     return sum.norm2();
   }
@@ -247,15 +248,19 @@ TEUCHOS_UNIT_TEST(NewtonSolver, BadParametersThrowNamingTheKey) {
     pl->set(key, value);
     return [pl]() { NewtonSolver s(pl); };
   };
-  TEST_ASSERT(throwsNaming(bad("Preconditioner", std::string("FOO")), {"'Implicit Solver/Preconditioner'", "FOO"}, out));
+  TEST_ASSERT(
+      throwsNaming(bad("Preconditioner", std::string("FOO")), {"'Implicit Solver/Preconditioner'", "FOO"}, out));
   TEST_ASSERT(throwsNaming(bad("Jacobian", std::string("Exact")), {"'Implicit Solver/Jacobian'", "Exact"}, out));
   TEST_ASSERT(throwsNaming(bad("Displacement Tolerance", -1e-10),
                            {"'Implicit Solver/Displacement Tolerance' must be positive"}, out));
-  TEST_ASSERT(throwsNaming(bad("Energy Tolerance", -1.0), {"'Implicit Solver/Energy Tolerance' must be positive"}, out));
-  TEST_ASSERT(throwsNaming(bad("Linear Tolerance", -1e-4), {"'Implicit Solver/Linear Tolerance' must be positive"}, out));
+  TEST_ASSERT(
+      throwsNaming(bad("Energy Tolerance", -1.0), {"'Implicit Solver/Energy Tolerance' must be positive"}, out));
+  TEST_ASSERT(
+      throwsNaming(bad("Linear Tolerance", -1e-4), {"'Implicit Solver/Linear Tolerance' must be positive"}, out));
   TEST_ASSERT(throwsNaming(bad("Residual Tolerance", -1.0), {"'Implicit Solver/Residual Tolerance'"}, out));
   TEST_ASSERT(throwsNaming(bad("Maximum Newton Iterations", 0), {"'Implicit Solver/Maximum Newton Iterations'"}, out));
-  TEST_ASSERT(throwsNaming(bad("Displacement Tolerance", std::string("tiny")), {"'Implicit Solver/Displacement Tolerance'"}, out));
+  TEST_ASSERT(throwsNaming(bad("Displacement Tolerance", std::string("tiny")),
+                           {"'Implicit Solver/Displacement Tolerance'"}, out));
   TEST_ASSERT(throwsNaming(bad("Newton Tolerance", 1e-8), {"'Implicit Solver/Newton Tolerance'"}, out));
 
   // Ifpack2 checks its own list; the error names the pass-through sublist.
@@ -265,7 +270,8 @@ TEUCHOS_UNIT_TEST(NewtonSolver, BadParametersThrowNamingTheKey) {
   // Stratimikos likewise.
   auto strat = params("Jacobian-Free");
   strat->sublist("Stratimikos").set("Linear Solver Type", "Amesos2");
-  TEST_ASSERT(throwsNaming([strat]() { NewtonSolver s(strat); }, {"'Implicit Solver/Stratimikos/Linear Solver Type'"}, out));
+  TEST_ASSERT(
+      throwsNaming([strat]() { NewtonSolver s(strat); }, {"'Implicit Solver/Stratimikos/Linear Solver Type'"}, out));
   auto belos = params("Jacobian-Free");
   belos->sublist("Stratimikos").sublist("Linear Solver Types").sublist("Belos").set("Solver Type", "No Such Solver");
   TEST_ASSERT(throwsNaming([belos]() { NewtonSolver s(belos); }, {"'Implicit Solver/Stratimikos'"}, out));
@@ -323,7 +329,7 @@ TEUCHOS_UNIT_TEST(NewtonSolver, NonlinearAssembledConvergesQuadratically) {
   int quadraticSteps = 0;
   for (size_t k = 0; k + 1 < R.size(); ++k) {
     const double a = R[k] / r0, b = R[k + 1] / r0;
-    TEST_ASSERT(b < a);  // monotone
+    TEST_ASSERT(b < a);               // monotone
     if (a < 1e-2 && a * a > 1e-12) {  // asymptotic range, and a * a well above round-off
       out << "  step " << k << ": r_k = " << a << ", r_k+1 = " << b << ", r_k+1/r_k^2 = " << b / (a * a) << "\n";
       TEST_ASSERT(b <= 10.0 * a * a);
@@ -480,8 +486,8 @@ TEUCHOS_UNIT_TEST(NewtonSolver, MapMayChangeBetweenSolves) {
   const NewtonResult r3 = solver.solve(a, uA);  // same static-graph matrix object as r1
   const NewtonResult r4 = solver.solve(c, uC);  // a new matrix object at every Newton step
   for (const auto* r : {&r1, &r2, &r3, &r4})
-    out << summarize(*r) << " (jacobians " << r->jacobianEvaluations << ", initialize() " << r->preconditionerInitializations
-        << ")\n";
+    out << summarize(*r) << " (jacobians " << r->jacobianEvaluations << ", initialize() "
+        << r->preconditionerInitializations << ")\n";
   TEST_ASSERT(r1.converged && r2.converged && r3.converged && r4.converged);
   TEST_EQUALITY(r1.preconditionerInitializations, 1);
   TEST_EQUALITY(r2.preconditionerInitializations, 1);
@@ -514,9 +520,8 @@ TEUCHOS_UNIT_TEST(NewtonSolver, SetupIsBuiltOnceAndReused) {
       Vector u2(bar.unknownMap());
       const NewtonResult r2 = solver.solve(bar, u2);
       out << "  n = " << std::setw(6) << n << " " << std::setw(13) << jac << ": setup " << std::scientific
-          << std::setprecision(2) << r.setupSeconds << " s (reused: " << r2.setupSeconds << " s) of "
-          << r.solveSeconds << " s; Newton " << r.newtonIterations << ", residuals " << r.residualEvaluations
-          << "\n";
+          << std::setprecision(2) << r.setupSeconds << " s (reused: " << r2.setupSeconds << " s) of " << r.solveSeconds
+          << " s; Newton " << r.newtonIterations << ", residuals " << r.residualEvaluations << "\n";
       TEST_ASSERT(r.converged && r2.converged);
       TEST_ASSERT(!r.reusedSetUp && r2.reusedSetUp);
     }

@@ -18,7 +18,10 @@ using namespace impm;
 TEUCHOS_UNIT_TEST(ParticleCellPairs, OverlapIntegralsGiveGimpWeights) {
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
-  g.nx = 8; g.ny = 5; g.hx = 0.4; g.hy = 0.3;
+  g.nx = 8;
+  g.ny = 5;
+  g.hx = 0.4;
+  g.hy = 0.3;
   GridDistribution dist(g, comm);
   RectangularBody body{0.4, 2.8, 0.3, 1.2, 3, 2, 1.0};
   ParticleSet ps = createParticles(body, Materials{1.0, 0.2, 1.0}, dist);
@@ -27,7 +30,10 @@ TEUCHOS_UNIT_TEST(ParticleCellPairs, OverlapIntegralsGiveGimpWeights) {
   std::uniform_real_distribution<double> jitter(-1.0, 1.0);
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.halfSize);
-  for (int p = 0; p < ps.count; ++p) { x(p, 0) += jitter(rng) * hs(p, 0); x(p, 1) += jitter(rng) * hs(p, 1); }
+  for (int p = 0; p < ps.count; ++p) {
+    x(p, 0) += jitter(rng) * hs(p, 0);
+    x(p, 1) += jitter(rng) * hs(p, 1);
+  }
   Kokkos::deep_copy(ps.x, x);
 
   const ParticleCellPairs pairs = buildParticleCellPairs<ExecutionSpace>(g, ps, false);
@@ -77,7 +83,10 @@ TEUCHOS_UNIT_TEST(ParticleCellPairs, OverlapIntegralsGiveGimpWeights) {
 TEUCHOS_UNIT_TEST(ParticleCellPairs, MpmHasOnePairPerParticle) {
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
-  g.nx = 6; g.ny = 3; g.hx = 1.0; g.hy = 1.0;
+  g.nx = 6;
+  g.ny = 3;
+  g.hx = 1.0;
+  g.hy = 1.0;
   GridDistribution dist(g, comm);
   ParticleSet ps = createParticles(RectangularBody{1, 5, 0, 3, 2, 2, 1.0}, Materials{1.0, 0.2, 1.0}, dist);
   const ParticleCellPairs pairs = buildParticleCellPairs<ExecutionSpace>(g, ps, true);

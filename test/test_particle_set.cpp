@@ -16,22 +16,31 @@ using namespace impm;
 
 TEUCHOS_UNIT_TEST(ParticleSet, PackUnpackRoundTrip) {
   StructuredGrid g;
-  g.nx = 6; g.ny = 3; g.hx = 0.5; g.hy = 0.5;
+  g.nx = 6;
+  g.ny = 3;
+  g.hx = 0.5;
+  g.hy = 0.5;
   GridDistribution dist(g, Teuchos::rcp(new Teuchos::SerialComm<int>()));
   ParticleSet ps = createParticles(RectangularBody{0.5, 2.5, 0.0, 1.5, 2, 2, 0.1}, Materials{1e6, 0.25, 1000.0}, dist);
   // Give every field a distinct value.
   auto psv = ps;
   Kokkos::parallel_for(
       "fill", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-        for (int d = 0; d < 2; ++d) { psv.v(p, d) = 0.1 * p + d; psv.a(p, d) = -0.3 * p - d; }
+        for (int d = 0; d < 2; ++d) {
+          psv.v(p, d) = 0.1 * p + d;
+          psv.a(p, d) = -0.3 * p - d;
+        }
         for (int i = 0; i < 4; ++i) psv.stress(p, i) = 1e3 * p + i;
         psv.F(p, 0, 1) = 1e-3 * p;
-        psv.body(p) = p % 3; psv.material(p) = p % 2; psv.id(p) = 1000000000000LL + p;
+        psv.body(p) = p % 3;
+        psv.material(p) = p % 2;
+        psv.id(p) = 1000000000000LL + p;
       });
   // Every other particle, packed and appended to an empty set.
   const int n = ps.count / 2;
   ParticleSet::Ids picked("picked", n);
-  Kokkos::parallel_for("pick", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int k) { picked(k) = 2 * k + 1; });
+  Kokkos::parallel_for(
+      "pick", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int k) { picked(k) = 2 * k + 1; });
   ParticleSet::Packed buffer("buffer", n, ps.packedWidth());
   ps.pack(picked, buffer);
   ParticleSet other(0);
@@ -55,17 +64,22 @@ TEUCHOS_UNIT_TEST(ParticleSet, PackUnpackRoundTrip) {
 // that was empty when it allocated its history (a rank without particles receiving some).
 TEUCHOS_UNIT_TEST(ParticleSet, HistoryTravelsWithItsParticle) {
   StructuredGrid g;
-  g.nx = 6; g.ny = 3; g.hx = 0.5; g.hy = 0.5;
+  g.nx = 6;
+  g.ny = 3;
+  g.hx = 0.5;
+  g.hy = 0.5;
   GridDistribution dist(g, Teuchos::rcp(new Teuchos::SerialComm<int>()));
   ParticleSet ps = createParticles(RectangularBody{0.5, 2.5, 0.0, 1.5, 2, 2, 0.1}, Materials{1e6, 0.25, 1000.0}, dist);
   ps.allocateHistory();
   auto h = ps.history;
-  Kokkos::parallel_for("fill_history", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
-    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h(p, i) = 10.0 * p + i;
-  });
+  Kokkos::parallel_for(
+      "fill_history", Kokkos::RangePolicy<ExecutionSpace>(0, ps.count), KOKKOS_LAMBDA(int p) {
+        for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h(p, i) = 10.0 * p + i;
+      });
   const int n = 3;
   ParticleSet::Ids picked("picked", n);
-  Kokkos::parallel_for("pick", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int k) { picked(k) = 4 + k; });
+  Kokkos::parallel_for(
+      "pick", Kokkos::RangePolicy<ExecutionSpace>(0, n), KOKKOS_LAMBDA(int k) { picked(k) = 4 + k; });
   ParticleSet::Packed buffer("buffer", n, ps.packedWidth());
   ps.pack(picked, buffer);
   ParticleSet empty(0);
@@ -122,9 +136,13 @@ int packUnpackDifferences(int dim, Teuchos::FancyOStream& out) {
   int field = 0;
   for (auto* v : {&ps.x, &ps.x0, &ps.v, &ps.a, &ps.halfSize, &ps.u}) fillEncoded(*v, ++field);
   for (auto* v : {&ps.mass, &ps.volume0, &ps.volume}) fillEncoded(*v, ++field);
-  fillEncoded(ps.stress, ++field); fillEncoded(ps.history, ++field);
-  fillEncoded(ps.F, ++field); fillEncoded(ps.affine, ++field);
-  fillEncoded(ps.body, ++field); fillEncoded(ps.material, ++field); fillEncoded(ps.id, ++field);
+  fillEncoded(ps.stress, ++field);
+  fillEncoded(ps.history, ++field);
+  fillEncoded(ps.F, ++field);
+  fillEncoded(ps.affine, ++field);
+  fillEncoded(ps.body, ++field);
+  fillEncoded(ps.material, ++field);
+  fillEncoded(ps.id, ++field);
   const std::vector<int> picked{5, 0, 3};
   ParticleSet::Ids ids("picked", picked.size());
   auto idsHost = Kokkos::create_mirror_view(ids);
@@ -140,8 +158,8 @@ int packUnpackDifferences(int dim, Teuchos::FancyOStream& out) {
   other.unpackAppend(buffer);
   if (other.count != 1 + (int)picked.size()) return -1;
   int differ = 0;
-  for (auto m : {&ParticleSet::x, &ParticleSet::x0, &ParticleSet::v, &ParticleSet::a, &ParticleSet::halfSize,
-                 &ParticleSet::u})
+  for (auto m :
+       {&ParticleSet::x, &ParticleSet::x0, &ParticleSet::v, &ParticleSet::a, &ParticleSet::halfSize, &ParticleSet::u})
     differ += differingValues(ps.*m, other.*m, picked, 1);
   for (auto m : {&ParticleSet::mass, &ParticleSet::volume0, &ParticleSet::volume})
     differ += differingValues(ps.*m, other.*m, picked, 1);

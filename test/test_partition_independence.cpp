@@ -2,9 +2,10 @@
 // slabs across x, across y, across z in 3D) and on one rank gives the same monitor and energy
 // histories to 1e-10 relative, on runs whose particles cross rank boundaries many times:
 // colliding disks (explicit MPM, and explicit cpGIMP neo-Hookean at large strain, also with F-bar and load
-// balanced), a standing wave in a bar (GIMP, eager migration), colliding boxes in 3D, and the large-deflection CPDI cantilever solved implicitly by assembled Newton
-// with a direct solve (a Krylov preconditioner depends on the decomposition, so only a direct
-// solve agrees to 1e-10). Run at np 1 (the rank grid is trivial: checks that the decks run), 2 and 3.
+// balanced), a standing wave in a bar (GIMP, eager migration), colliding boxes in 3D, and the large-deflection CPDI
+// cantilever solved implicitly by assembled Newton with a direct solve (a Krylov preconditioner depends on the
+// decomposition, so only a direct solve agrees to 1e-10). Run at np 1 (the rank grid is trivial: checks that the decks
+// run), 2 and 3.
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
@@ -39,7 +40,8 @@ void checkIndependence(const std::string& name, ParameterList deck, const std::v
   auto comm = Tpetra::getDefaultComm();
   const int np = comm->getSize(), rank = comm->getRank();
   if (np == 1) {  // one rank grid only: the deck runs
-    const std::string status = run(deck, comm, "test_output/partition_" + name + "_np1").status;  // (the macro would run it twice)
+    const std::string status =
+        run(deck, comm, "test_output/partition_" + name + "_np1").status;  // (the macro would run it twice)
     TEST_EQUALITY_CONST(status, "completed");
     return;
   }
@@ -61,7 +63,8 @@ void checkIndependence(const std::string& name, ParameterList deck, const std::v
   for (const auto& layout : layouts) {
     ParameterList d = deck;
     d.sublist("Decomposition").set("Ranks X", layout[0]).set("Ranks Y", layout[1]).set("Ranks Z", layout[2]);
-    const std::string tag = std::to_string(layout[0]) + "x" + std::to_string(layout[1]) + "x" + std::to_string(layout[2]);
+    const std::string tag =
+        std::to_string(layout[0]) + "x" + std::to_string(layout[1]) + "x" + std::to_string(layout[2]);
     const impm::RunResult r = run(d, comm, "test_output/partition_" + name + "_np" + std::to_string(np) + "_" + tag);
     TEST_EQUALITY_CONST(r.status, "completed");
     out << name << " " << tag << ": " << r.migrations << " migrations, " << r.migratedParticles << " particles moved, "
@@ -82,7 +85,8 @@ void checkIndependence(const std::string& name, ParameterList deck, const std::v
     TEST_COMPARE(r.computed.size(), >, 0u);
     for (const auto& [monitor, values] : r.computed) {
       const double e = historyRelativeDifference(values, one.computed.at(monitor));
-      out << name << " " << tag << " '" << monitor << "': np " << np << " against np 1, max relative difference " << e << "\n";
+      out << name << " " << tag << " '" << monitor << "': np " << np << " against np 1, max relative difference " << e
+          << "\n";
       TEST_COMPARE(e, <, tolerance);
     }
     for (const auto& [column, values] : r.reactions) {
@@ -120,8 +124,8 @@ std::vector<std::array<int, 3>> slabs2d(int np) {
 // 3500 steps. The thread count alone, at np 1, moves this monitor by 7e-11; np 3 in slabs across x
 // by 5e-9 (measured). Hence 1e-8 here; the smooth shapes below keep 1e-10.
 TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitMpmDisks) {
-  checkIndependence("disks_mpm", appDeck("colliding_disks_explicit_mpm.yaml"), slabs2d(Tpetra::getDefaultComm()->getSize()),
-                    out, success, 1e-8);
+  checkIndependence("disks_mpm", appDeck("colliding_disks_explicit_mpm.yaml"),
+                    slabs2d(Tpetra::getDefaultComm()->getSize()), out, success, 1e-8);
 }
 
 TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitCpgimpNeoHookeanDisks) {
@@ -195,11 +199,20 @@ TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitGimp3dBoxes) {
   ParameterList& g = deck.sublist("Grid");
   g.set("Dimension", 3).set("Cells X", 8).set("Cells Y", 8).set("Cells Z", 8);
   g.set("Cell Size X", 0.125).set("Cell Size Y", 0.125).set("Cell Size Z", 0.125);
-  deck.sublist("Materials").sublist("rubber").set("Young Modulus", 1000.0).set("Poisson Ratio", 0.3).set("Density", 1000.0);
+  deck.sublist("Materials")
+      .sublist("rubber")
+      .set("Young Modulus", 1000.0)
+      .set("Poisson Ratio", 0.3)
+      .set("Density", 1000.0);
   auto box = [&](const std::string& name, double lo, double v) {
     ParameterList& b = deck.sublist("Bodies").sublist(name);
     b.set("Shape", "Rectangle").set("Material", "rubber");
-    b.set("X Min", lo).set("X Max", lo + 0.25).set("Y Min", lo).set("Y Max", lo + 0.25).set("Z Min", lo).set("Z Max", lo + 0.25);
+    b.set("X Min", lo)
+        .set("X Max", lo + 0.25)
+        .set("Y Min", lo)
+        .set("Y Max", lo + 0.25)
+        .set("Z Min", lo)
+        .set("Z Max", lo + 0.25);
     b.set("Particles Per Cell X", 2).set("Particles Per Cell Y", 2).set("Particles Per Cell Z", 2);
     b.set("Velocity X", v).set("Velocity Y", v).set("Velocity Z", v);
   };
@@ -211,7 +224,12 @@ TEUCHOS_UNIT_TEST(PartitionIndependence, ExplicitGimp3dBoxes) {
   in.sublist("Explicit").set("Update Scheme", "USL").set("FLIP Fraction", 1.0);
   ParameterList& m = deck.sublist("Monitors").sublist("lower corner vx");
   m.set("Quantity", "Velocity X").set("X", 0.15).set("Y", 0.15).set("Z", 0.15);
-  deck.sublist("Monitors").sublist("resting corner uz").set("Quantity", "Displacement Z").set("X", 0.8).set("Y", 0.8).set("Z", 0.8);
+  deck.sublist("Monitors")
+      .sublist("resting corner uz")
+      .set("Quantity", "Displacement Z")
+      .set("X", 0.8)
+      .set("Y", 0.8)
+      .set("Z", 0.8);
   deck.sublist("Output").set("History Interval", 10).set("Energy And Momentum", true);
   const int np = Tpetra::getDefaultComm()->getSize();
   checkIndependence("boxes3d", deck, {{0, 0, 0}, {1, 1, np}}, out, success);

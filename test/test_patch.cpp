@@ -33,20 +33,44 @@ constexpr double kYoung = 1e6;
 ParameterList patchDeck(const std::string& shape, int steps, const std::string& outdir) {
   ParameterList d("impm");
   d.sublist("Problem").set("Name", "patch test " + shape).set("Output Directory", outdir);
-  d.sublist("Grid").set("Cells X", 4).set("Cells Y", 4).set("Cell Size X", 0.25).set("Cell Size Y", 0.25)
-      .set("Plane Condition", "Plane Stress").set("Thickness", 1.0);
-  d.sublist("Materials").sublist("elastic").set("Young Modulus", kYoung).set("Poisson Ratio", 0.3).set("Density", 1000.0);
-  d.sublist("Bodies").sublist("block").set("Shape", "Rectangle").set("Material", "elastic").set("X Min", 0.0)
-      .set("X Max", 1.0).set("Y Min", 0.0).set("Y Max", 1.0).set("Particles Per Cell X", 2).set("Particles Per Cell Y", 2);
+  d.sublist("Grid")
+      .set("Cells X", 4)
+      .set("Cells Y", 4)
+      .set("Cell Size X", 0.25)
+      .set("Cell Size Y", 0.25)
+      .set("Plane Condition", "Plane Stress")
+      .set("Thickness", 1.0);
+  d.sublist("Materials")
+      .sublist("elastic")
+      .set("Young Modulus", kYoung)
+      .set("Poisson Ratio", 0.3)
+      .set("Density", 1000.0);
+  d.sublist("Bodies")
+      .sublist("block")
+      .set("Shape", "Rectangle")
+      .set("Material", "elastic")
+      .set("X Min", 0.0)
+      .set("X Max", 1.0)
+      .set("Y Min", 0.0)
+      .set("Y Max", 1.0)
+      .set("Particles Per Cell X", 2)
+      .set("Particles Per Cell Y", 2);
   d.sublist("Method").set("Shape Function", shape);
   d.sublist("Integrator").set("Type", "Implicit").set("Time Step", 1e6).set("Number of Steps", steps);
-  d.sublist("Implicit Solver").set("Jacobian", "Assembled").set("Linear Tolerance", 1e-14)
+  d.sublist("Implicit Solver")
+      .set("Jacobian", "Assembled")
+      .set("Linear Tolerance", 1e-14)
       .set("Residual Tolerance", 1e-13);
   auto& c = d.sublist("Constraints");
   c.sublist("rollers").set("Where", "Face").set("Face", "x-").set("Components", "x");
   c.sublist("pin").set("Where", "Node").set("X", 0.0).set("Y", 0.0).set("Components", "xy");
-  d.sublist("Loads").sublist("pull").set("Type", "Face Traction").set("Face", "x+").set("Force X", kForce)
-      .set("Time Function", "Step").set("Start Time", 1.0);
+  d.sublist("Loads")
+      .sublist("pull")
+      .set("Type", "Face Traction")
+      .set("Face", "x+")
+      .set("Force X", kForce)
+      .set("Time Function", "Step")
+      .set("Start Time", 1.0);
   d.sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
   return d;
 }
@@ -60,7 +84,12 @@ ParameterList patchDeck3d(const std::string& shape, int steps, const std::string
   ParameterList d = patchDeck(shape, steps, outdir);
   d.sublist("Grid").remove("Plane Condition");
   d.sublist("Grid").remove("Thickness");
-  d.sublist("Grid").set("Dimension", 3).set("Cells Y", 2).set("Cell Size Y", 0.5).set("Cells Z", 6).set("Cell Size Z", 1.0 / 6.0);
+  d.sublist("Grid")
+      .set("Dimension", 3)
+      .set("Cells Y", 2)
+      .set("Cell Size Y", 0.5)
+      .set("Cells Z", 6)
+      .set("Cell Size Z", 1.0 / 6.0);
   d.sublist("Bodies").sublist("block").set("Z Min", 0.0).set("Z Max", 1.0).set("Particles Per Cell Z", 2);
   auto& c = d.sublist("Constraints");
   c.sublist("pin").set("Components", "xyz");
@@ -159,7 +188,8 @@ double peakStressRatio(const std::string& shape, const std::string& mass, double
   double peak = 0;
   for (int k = 0; k < 4; ++k)
     for (double s : h.at("s" + std::to_string(k))) peak = std::max(peak, std::abs(s));
-  out << shape << ", " << mass << " mass, " << gridAcceleration << ", dt = " << dt << " s: max |sigma_xx| / (F / A) = " << peak / kForce << "\n";
+  out << shape << ", " << mass << " mass, " << gridAcceleration << ", dt = " << dt
+      << " s: max |sigma_xx| / (F / A) = " << peak / kForce << "\n";
   return peak / kForce;
 }
 

@@ -26,12 +26,26 @@ constexpr double kArea = 0.1;             // 0.1 m high, 1 m thick (plane stress
 ParameterList pulledBarDeck(const std::string& type, const std::string& shape, double v0, double rampTime) {
   ParameterList d("impm");
   d.sublist("Problem").set("Name", "pulled bar");
-  d.sublist("Grid").set("Origin X", -0.2).set("Origin Y", -0.1).set("Cells X", 16).set("Cells Y", 3)
-      .set("Cell Size X", 0.1).set("Cell Size Y", 0.1);
-  d.sublist("Material").set("Young Modulus", kE).set("Poisson Ratio", 0.0).set("Density", kRho)
-      .set("Plane Condition", "Plane Stress").set("Thickness", 1.0);
-  d.sublist("Body").set("X Min", 0.0).set("X Max", 1.0).set("Y Min", 0.0).set("Y Max", 0.1)
-      .set("Particles Per Cell X", 2).set("Particles Per Cell Y", 2);
+  d.sublist("Grid")
+      .set("Origin X", -0.2)
+      .set("Origin Y", -0.1)
+      .set("Cells X", 16)
+      .set("Cells Y", 3)
+      .set("Cell Size X", 0.1)
+      .set("Cell Size Y", 0.1);
+  d.sublist("Material")
+      .set("Young Modulus", kE)
+      .set("Poisson Ratio", 0.0)
+      .set("Density", kRho)
+      .set("Plane Condition", "Plane Stress")
+      .set("Thickness", 1.0);
+  d.sublist("Body")
+      .set("X Min", 0.0)
+      .set("X Max", 1.0)
+      .set("Y Min", 0.0)
+      .set("Y Max", 0.1)
+      .set("Particles Per Cell X", 2)
+      .set("Particles Per Cell Y", 2);
   d.sublist("Method").set("Shape Function", shape);
   auto& in = d.sublist("Integrator");
   in.set("Type", type);
@@ -44,11 +58,24 @@ ParameterList pulledBarDeck(const std::string& type, const std::string& shape, d
   auto& c = d.sublist("Constraints");
   // Grips: every node from the bar's end line outwards. (A GIMP particle's domain crosses the end
   // line as the bar stretches; with the end line alone held, the end cell took 9% of the stretch.)
-  c.sublist("fixed end").set("Where", "Box").set("X Min", -0.2).set("X Max", 0.0).set("Y Min", -0.1).set("Y Max", 0.2)
+  c.sublist("fixed end")
+      .set("Where", "Box")
+      .set("X Min", -0.2)
+      .set("X Max", 0.0)
+      .set("Y Min", -0.1)
+      .set("Y Max", 0.2)
       .set("Components", "x");
   c.sublist("pin").set("Where", "Node").set("X", 0.0).set("Y", 0.0).set("Components", "y");
-  c.sublist("pull").set("Where", "Box").set("X Min", 1.0).set("X Max", 1.4).set("Y Min", -0.1).set("Y Max", 0.2)
-      .set("Components", "x").set("Motion", "Velocity").set("Value X", v0).set("Time Function", "Ramp")
+  c.sublist("pull")
+      .set("Where", "Box")
+      .set("X Min", 1.0)
+      .set("X Max", 1.4)
+      .set("Y Min", -0.1)
+      .set("Y Max", 0.2)
+      .set("Components", "x")
+      .set("Motion", "Velocity")
+      .set("Value X", v0)
+      .set("Time Function", "Ramp")
       .set("Ramp Time", rampTime);
   auto& m = d.sublist("Monitors");
   for (int k = 0; k < 4; ++k)
@@ -81,7 +108,8 @@ size_t rowAt(const impm::RunResult& r, double t) {
 void checkPulledBar(const std::string& type, const std::string& shape, Teuchos::FancyOStream& out, bool& success) {
   const double v0 = 0.01, L = 1.0;
   auto comm = Tpetra::getDefaultComm();
-  const impm::RunResult r = run(pulledBarDeck(type, shape, v0, 0.01), comm, "test_output/pulled_bar_" + type + "_" + shape);
+  const impm::RunResult r =
+      run(pulledBarDeck(type, shape, v0, 0.01), comm, "test_output/pulled_bar_" + type + "_" + shape);
   TEST_EQUALITY_CONST(r.status, "completed");
   const size_t i1 = rowAt(r, 0.015), i2 = rowAt(r, 0.04);
   const double dt = r.time[i2] - r.time[i1];
@@ -93,7 +121,8 @@ void checkPulledBar(const std::string& type, const std::string& shape, Teuchos::
     sigmaMean += 0.25 * s[i2];
   }
   const double pull = r.reactions.at("pull_reaction_x")[i2], fixed = r.reactions.at("fixed_end_reaction_x")[i2];
-  const double pullError = std::abs(pull / (sigmaMean * kArea) - 1.0), fixedError = std::abs(-fixed / (sigmaMean * kArea) - 1.0);
+  const double pullError = std::abs(pull / (sigmaMean * kArea) - 1.0),
+               fixedError = std::abs(-fixed / (sigmaMean * kArea) - 1.0);
   out << type << " " << shape << ": strain rate within " << worstRate << " of v0/L; end forces " << pull << " N and "
       << fixed << " N against sigma A = " << sigmaMean * kArea << " N (" << pullError << ", " << fixedError << ")\n";
   TEST_COMPARE(worstRate, <, 0.01);
@@ -140,8 +169,13 @@ TEUCHOS_UNIT_TEST(PrescribedMotion, RigidTranslationLeavesTheBodyUnstressed) {
         d.sublist("Constraints") = ParameterList("Constraints");
         const double vx = 0.5, vy = -0.25, ux = 0.02;
         auto& all = d.sublist("Constraints").sublist("whole grid");
-        all.set("Where", "Box").set("X Min", -1.0).set("X Max", 2.0).set("Y Min", -1.0).set("Y Max", 1.0)
-            .set("Components", "all").set("Motion", motion);
+        all.set("Where", "Box")
+            .set("X Min", -1.0)
+            .set("X Max", 2.0)
+            .set("Y Min", -1.0)
+            .set("Y Max", 1.0)
+            .set("Components", "all")
+            .set("Motion", motion);
         const int steps = type == "Explicit" ? 200 : 10;
         const double dtStep = type == "Explicit" ? 2.0e-5 : 1.0e-3, T = steps * dtStep;
         d.sublist("Integrator").set("Number of Steps", steps);
@@ -190,12 +224,25 @@ TEUCHOS_UNIT_TEST(PrescribedMotion, StaticReactionsBalanceTheLoads) {
     d.sublist("Integrator").set("Time Step", 1.0).set("Number of Steps", 6);
     d.sublist("Implicit Solver").set("Jacobian", jacobian);
     d.sublist("Constraints") = ParameterList("Constraints");
-    d.sublist("Constraints").sublist("base").set("Where", "Box").set("X Min", -1.0).set("X Max", 2.0)
-        .set("Y Min", 0.0).set("Y Max", 0.0).set("Components", "all");
+    d.sublist("Constraints")
+        .sublist("base")
+        .set("Where", "Box")
+        .set("X Min", -1.0)
+        .set("X Max", 2.0)
+        .set("Y Min", 0.0)
+        .set("Y Max", 0.0)
+        .set("Components", "all");
     auto& loads = d.sublist("Loads");
-    loads.sublist("gravity").set("Type", "Body Force").set("Acceleration Y", -10.0).set("Time Function", "Ramp")
+    loads.sublist("gravity")
+        .set("Type", "Body Force")
+        .set("Acceleration Y", -10.0)
+        .set("Time Function", "Ramp")
         .set("Ramp Time", 2.0);
-    loads.sublist("top").set("Type", "Face Traction").set("Face", "y+").set("Force Y", -100.0).set("Time Function", "Ramp")
+    loads.sublist("top")
+        .set("Type", "Face Traction")
+        .set("Face", "y+")
+        .set("Force Y", -100.0)
+        .set("Time Function", "Ramp")
         .set("Ramp Time", 2.0);
     d.sublist("Monitors") = ParameterList("Monitors");
     const impm::RunResult r = run(d, comm, "test_output/static_reactions");
@@ -229,7 +276,8 @@ TEUCHOS_UNIT_TEST(PrescribedMotion, J2BlockBetweenPlatens) {
   auto comm = Tpetra::getDefaultComm();
   auto base = impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/platens_implicit_mpm_j2.yaml");
   const ParameterList& m = base->sublist("Material");
-  const double E = m.get<double>("Young Modulus"), nu = m.get<double>("Poisson Ratio"), sy = m.get<double>("Yield Stress");
+  const double E = m.get<double>("Young Modulus"), nu = m.get<double>("Poisson Ratio"),
+               sy = m.get<double>("Yield Stress");
   const double W = 1.0, H = 1.0, delta = 0.01;
   for (const std::string variant : {"MPM", "GIMP", "GIMP Projected"}) {
     ParameterList d = *base;
@@ -239,8 +287,18 @@ TEUCHOS_UNIT_TEST(PrescribedMotion, J2BlockBetweenPlatens) {
     if (projected) d.sublist("Integrator").sublist("Implicit").set("Grid Acceleration", "Projected");
     if (shape == "GIMP") {
       auto& c = d.sublist("Constraints");
-      c.sublist("bottom platen").set("Where", "Box").set("X Min", -1.0).set("X Max", 2.0).set("Y Min", -1.0).set("Y Max", 0.0);
-      c.sublist("top platen").set("Where", "Box").set("X Min", -1.0).set("X Max", 2.0).set("Y Min", 1.0).set("Y Max", 2.0);
+      c.sublist("bottom platen")
+          .set("Where", "Box")
+          .set("X Min", -1.0)
+          .set("X Max", 2.0)
+          .set("Y Min", -1.0)
+          .set("Y Max", 0.0);
+      c.sublist("top platen")
+          .set("Where", "Box")
+          .set("X Min", -1.0)
+          .set("X Max", 2.0)
+          .set("Y Min", 1.0)
+          .set("Y Max", 2.0);
     }
     d.sublist("Output").set("Plot", false).set("Progress", false);
     const impm::RunResult r = run(d, comm, "test_output/platens_" + shape + (projected ? "_projected" : ""));
@@ -253,9 +311,10 @@ TEUCHOS_UNIT_TEST(PrescribedMotion, J2BlockBetweenPlatens) {
     const double elasticError = std::abs(bottom[elastic] / elasticExpect - 1.0);
     const double plateauError = std::abs(bottom.back() / plateauExpect - 1.0);
     double imbalance = 0;
-    for (size_t i = 0; i < top.size(); ++i) imbalance = std::max(imbalance, std::abs(top[i] + bottom[i]) / plateauExpect);
-    out << variant << ": elastic reaction " << bottom[elastic] << " N against " << elasticExpect << " N (" << elasticError
-        << "); plateau " << bottom.back() << " N against " << plateauExpect << " N (" << plateauError
+    for (size_t i = 0; i < top.size(); ++i)
+      imbalance = std::max(imbalance, std::abs(top[i] + bottom[i]) / plateauExpect);
+    out << variant << ": elastic reaction " << bottom[elastic] << " N against " << elasticExpect << " N ("
+        << elasticError << "); plateau " << bottom.back() << " N against " << plateauExpect << " N (" << plateauError
         << "); platens' imbalance " << imbalance << "\n";
     TEST_COMPARE(elasticError, <, 3e-3);
     TEST_COMPARE(plateauError, <, 5e-3);

@@ -19,12 +19,16 @@ using impm::StructuredGrid;
 
 StructuredGrid grid2d(int nx, int ny) {
   StructuredGrid g;
-  g.nx = nx; g.ny = ny;
+  g.nx = nx;
+  g.ny = ny;
   return g;
 }
 StructuredGrid grid3d(int nx, int ny, int nz) {
   StructuredGrid g;
-  g.nx = nx; g.ny = ny; g.nz = nz; g.dim = 3;
+  g.nx = nx;
+  g.ny = ny;
+  g.nz = nz;
+  g.dim = 3;
   return g;
 }
 
@@ -32,18 +36,26 @@ StructuredGrid grid3d(int nx, int ny, int nz) {
 // on a square one, and the 3D analogue.
 TEUCHOS_UNIT_TEST(RankGrid, ChoosesTheSmallestInterface) {
   const RankGrid bar(grid2d(100, 10), 4);
-  TEST_EQUALITY(bar.dims(0), 4); TEST_EQUALITY(bar.dims(1), 1); TEST_EQUALITY(bar.dims(2), 1);
+  TEST_EQUALITY(bar.dims(0), 4);
+  TEST_EQUALITY(bar.dims(1), 1);
+  TEST_EQUALITY(bar.dims(2), 1);
   const RankGrid square(grid2d(20, 20), 4);
-  TEST_EQUALITY(square.dims(0), 2); TEST_EQUALITY(square.dims(1), 2);
+  TEST_EQUALITY(square.dims(0), 2);
+  TEST_EQUALITY(square.dims(1), 2);
   const RankGrid tall(grid2d(10, 100), 2);
-  TEST_EQUALITY(tall.dims(0), 1); TEST_EQUALITY(tall.dims(1), 2);
+  TEST_EQUALITY(tall.dims(0), 1);
+  TEST_EQUALITY(tall.dims(1), 2);
   const RankGrid cube(grid3d(8, 8, 8), 8);
-  TEST_EQUALITY(cube.dims(0), 2); TEST_EQUALITY(cube.dims(1), 2); TEST_EQUALITY(cube.dims(2), 2);
+  TEST_EQUALITY(cube.dims(0), 2);
+  TEST_EQUALITY(cube.dims(1), 2);
+  TEST_EQUALITY(cube.dims(2), 2);
   const RankGrid primes(grid2d(20, 20), 3);  // a prime count on a square grid: slabs, x first on ties
-  TEST_EQUALITY(primes.dims(0), 3); TEST_EQUALITY(primes.dims(1), 1);
+  TEST_EQUALITY(primes.dims(0), 3);
+  TEST_EQUALITY(primes.dims(1), 1);
   // Requested counts are kept; the free direction takes the rest.
   const RankGrid asked(grid2d(100, 10), 4, {0, 2, 0});
-  TEST_EQUALITY(asked.dims(0), 2); TEST_EQUALITY(asked.dims(1), 2);
+  TEST_EQUALITY(asked.dims(0), 2);
+  TEST_EQUALITY(asked.dims(1), 2);
 }
 
 // Every cell has exactly one owner, whose box holds it; boxes cover the grid.
@@ -70,7 +82,8 @@ TEUCHOS_UNIT_TEST(RankGrid, OwnersAndBoxesAgree) {
 // Neighbours: the 8 (2D) or 26 (3D) surrounding blocks inside the rank grid; symmetric.
 TEUCHOS_UNIT_TEST(RankGrid, NeighboursAreSymmetric) {
   const RankGrid rg2(grid2d(30, 30), 9);  // 3 x 3
-  TEST_EQUALITY(rg2.dims(0), 3); TEST_EQUALITY(rg2.dims(1), 3);
+  TEST_EQUALITY(rg2.dims(0), 3);
+  TEST_EQUALITY(rg2.dims(1), 3);
   TEST_EQUALITY(rg2.neighbours(4).size(), 8u);  // the centre
   TEST_EQUALITY(rg2.neighbours(0).size(), 3u);  // a corner
   const RankGrid rg3(grid3d(9, 9, 9), 27);
@@ -111,7 +124,9 @@ TEUCHOS_UNIT_TEST(RankGrid, BalancedCuts) {
   const std::vector<double> uniform(12, 1.0);
   const std::vector<int> even = impm::balancedCuts(uniform, 3, 1);
   TEST_EQUALITY(even.size(), 4u);
-  TEST_EQUALITY(even[1], 4); TEST_EQUALITY(even[2], 8); TEST_EQUALITY(even[3], 12);
+  TEST_EQUALITY(even[1], 4);
+  TEST_EQUALITY(even[2], 8);
+  TEST_EQUALITY(even[3], 12);
 
   std::vector<double> heavy(12, 1.0);
   heavy[9] = 100.0;
@@ -129,8 +144,8 @@ TEUCHOS_UNIT_TEST(RankGrid, BalancedCuts) {
   TEST_EQUALITY(l[1], 5);
   // Optimal current cuts are kept (no churn on equal loads): empty cells may go either way.
   const std::vector<double> ends = {1, 0, 0, 1};
-  TEST_EQUALITY(impm::balancedCuts(ends, 2, 1)[1], 3);             // greedy: as far as it may
-  TEST_EQUALITY(impm::balancedCuts(ends, 2, 1, {0, 1, 4})[1], 1);  // just as good: kept
+  TEST_EQUALITY(impm::balancedCuts(ends, 2, 1)[1], 3);                  // greedy: as far as it may
+  TEST_EQUALITY(impm::balancedCuts(ends, 2, 1, {0, 1, 4})[1], 1);       // just as good: kept
   TEST_EQUALITY(impm::balancedCuts(ends, 2, 1, {0, 4, 4}).size(), 3u);  // invalid current: ignored
   TEST_EQUALITY(impm::balancedCuts(ends, 2, 1, {0, 4, 4})[1], 3);
 

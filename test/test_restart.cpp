@@ -59,7 +59,10 @@ Run run(ParameterList deck, const Comm& comm, const std::string& dir, int interv
 double relativeDifference(const impm::RunResult& a, const impm::RunResult& b) {
   double worst = a.time.size() == b.time.size() ? 0.0 : HUGE_VAL;
   auto compare = [&](const std::vector<double>& x, const std::vector<double>& y) {
-    if (x.size() != y.size()) { worst = HUGE_VAL; return; }
+    if (x.size() != y.size()) {
+      worst = HUGE_VAL;
+      return;
+    }
     double scale = 0;
     for (double v : y) scale = std::max(scale, std::abs(v));
     for (size_t i = 0; i < x.size(); ++i) worst = std::max(worst, std::abs(x[i] - y[i]) / (scale > 0 ? scale : 1.0));
@@ -119,15 +122,16 @@ void checkRestart(const ParameterList& deck, const std::string& name, int steps,
     const Run soloReference = run(d, self, solo + "_reference", 0, "");
     run(d, self, solo + "_checkpointed", k, "");
     comm->barrier();
-    const Run upward = run(d, comm, base + "_from_np1", 0, "test_output/restart_" + name + "_np" + std::to_string(np) +
-                                                               "_solo_r0_checkpointed/checkpoint");
+    const Run upward =
+        run(d, comm, base + "_from_np1", 0,
+            "test_output/restart_" + name + "_np" + std::to_string(np) + "_solo_r0_checkpointed/checkpoint");
     const Run downward = run(d, self, solo + "_from_np" + std::to_string(np), 0, base + "_checkpointed/checkpoint");
     const double up = relativeDifference(upward.result, reference.result);
     const double down = relativeDifference(downward.result, soloReference.result);
     const double ranks = relativeDifference(soloReference.result, reference.result);
     out << name << ": np 1 checkpoint on np " << np << " against the np " << np << " run: " << up << "; np " << np
-        << " checkpoint on np 1 against the np 1 run: " << down << " (np 1 against np " << np << " uninterrupted: " << ranks
-        << ")\n";
+        << " checkpoint on np 1 against the np 1 run: " << down << " (np 1 against np " << np
+        << " uninterrupted: " << ranks << ")\n";
     TEST_COMPARE(up, <, 1e-10);
     TEST_COMPARE(down, <, 1e-10);
   }
@@ -177,7 +181,12 @@ TEUCHOS_UNIT_TEST(Restart, ApicCollidingDisks) {
 TEUCHOS_UNIT_TEST(Restart, LoadBalancedDisks) {
   ParameterList deck = deckOf("colliding_disks_explicit_cpgimp_neohookean.yaml");
   deck.sublist("Bodies").sublist("lower disk").set("Center X", 0.3).set("Center Y", 0.3);
-  deck.sublist("Bodies").sublist("upper disk").set("Center X", 0.62).set("Center Y", 0.62).set("Radius X", 0.12).set("Radius Y", 0.12);
+  deck.sublist("Bodies")
+      .sublist("upper disk")
+      .set("Center X", 0.62)
+      .set("Center Y", 0.62)
+      .set("Radius X", 0.12)
+      .set("Radius Y", 0.12);
   deck.sublist("Decomposition").set("Load Balance Interval", 10);
   deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 5);
   checkRestart(deck, "balanced_disks", 400, 230, out, success);

@@ -49,7 +49,11 @@ struct PlatenRun {
 // The platen deck at cell size 0.1 / refine (the same bodies).
 PlatenRun runPlaten(int refine) {
   ParameterList d = deckOf("platen_compression_rigid_explicit_gimp.yaml");
-  d.sublist("Grid").set("Cells X", 14 * refine).set("Cells Y", 16 * refine).set("Cell Size X", 0.1 / refine).set("Cell Size Y", 0.1 / refine);
+  d.sublist("Grid")
+      .set("Cells X", 14 * refine)
+      .set("Cells Y", 16 * refine)
+      .set("Cell Size X", 0.1 / refine)
+      .set("Cell Size Y", 0.1 / refine);
   d.sublist("Integrator").set("Time Step", 1e-3 / refine).set("Number of Steps", 1500 * refine);
   impm::validateDeck(d);
   impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/rigid_platen_" + std::to_string(refine));
@@ -119,7 +123,8 @@ TEUCHOS_UNIT_TEST(RigidBodies, PlatenCompressesCubeIn3d) {
   if (r.status != "completed") return;
   const double exact = 1.0e6 * 0.01 * 1.0, platen = r.reactions.at("platen_force_contact_y").back();
   const double floor = r.reactions.at("floor_force_contact_y").back();
-  const double sideways = std::hypot(r.reactions.at("platen_force_contact_x").back(), r.reactions.at("platen_force_contact_z").back());
+  const double sideways =
+      std::hypot(r.reactions.at("platen_force_contact_x").back(), r.reactions.at("platen_force_contact_z").back());
   out << "3D: force on the platen " << platen << " N (exact " << exact << "), on the floor " << floor << " N, sideways "
       << sideways << " N; block top moved " << r.computed.at("block top").back() << " m\n";
   TEST_COMPARE(std::abs(platen / exact - 1), <, 0.04);
@@ -185,7 +190,9 @@ TEUCHOS_UNIT_TEST(RigidBodies, RefusesBadRigidBodies) {
       {"all rigid", "Bodies/floor/Rigid", "every body is rigid",
        [](ParameterList& d) { d.sublist("Bodies").sublist("block").set("Rigid", true); }},
       {"motion of a free body", "Bodies/block/Time Function", "scales a rigid body's velocity",
-       [](ParameterList& d) { d.sublist("Bodies").sublist("block").set("Time Function", "Ramp").set("Ramp Time", 1.0); }},
+       [](ParameterList& d) {
+         d.sublist("Bodies").sublist("block").set("Time Function", "Ramp").set("Ramp Time", 1.0);
+       }},
       {"normal of a free body", "Bodies/block/Normal X/Y/Z", "rigid body's surface normal",
        [](ParameterList& d) { d.sublist("Bodies").sublist("block").set("Normal Y", 1.0); }},
       {"normal in z in 2D", "Bodies/platen/Normal Z", "needs 'Grid/Dimension' = 3",
@@ -193,7 +200,8 @@ TEUCHOS_UNIT_TEST(RigidBodies, RefusesBadRigidBodies) {
       {"bad table", "Bodies/platen/Table", "",
        [](ParameterList& d) { d.sublist("Bodies").sublist("platen").set("Table", "0, 0; 0, 1"); }},
   };
-  impm_test::checkRefusals(deckOf("platen_compression_rigid_explicit_gimp.yaml"), cases, "test_output/rigid_bad", out, success);
+  impm_test::checkRefusals(deckOf("platen_compression_rigid_explicit_gimp.yaml"), cases, "test_output/rigid_bad", out,
+                           success);
 }
 
 }  // namespace

@@ -72,9 +72,9 @@ struct Case {
 // Every transfer against Tesserae: the energy at 0.2 s (Tesserae's measure) to 5%, and its ratio
 // to FLIP's energy, which the sampling and the time step shift far less, to 0.5% (PIC 2.5%).
 TEUCHOS_UNIT_TEST(RingCollision, EnergyAtPointTwoSecondsPerTransfer) {
-  const Case cases[] = {{"flip", "FLIP/PIC", 1.0, 0, 1.567e7}, {"pic", "FLIP/PIC", 0.0, 0, 9.114e6},
+  const Case cases[] = {{"flip", "FLIP/PIC", 1.0, 0, 1.567e7},     {"pic", "FLIP/PIC", 0.0, 0, 9.114e6},
                         {"flip099", "FLIP/PIC", 0.99, 0, 1.543e7}, {"apic", "APIC", 1.0, 0, 1.539e7},
-                        {"tpic", "TPIC", 1.0, 0, 1.537e7}, {"xpic5", "XPIC", 1.0, 5, 1.502e7}};
+                        {"tpic", "TPIC", 1.0, 0, 1.537e7},         {"xpic5", "XPIC", 1.0, 5, 1.502e7}};
   // Two rings of area pi (4^2 - 3^2) at 30 m/s: E0 = 1.979e7 J/m (the lattice fill keeps the exact area).
   const double e0 = 2.0 * M_PI * (16.0 - 9.0) * 1000.0 * 0.5 * 30.0 * 30.0;
   double flipEnergy = 0.0;
@@ -84,8 +84,8 @@ TEUCHOS_UNIT_TEST(RingCollision, EnergyAtPointTwoSecondsPerTransfer) {
     const double error = (e.tesseraeFinal - c.tesserae) / c.tesserae;
     const double ratio = e.tesseraeFinal / flipEnergy, tesseraeRatio = c.tesserae / 1.567e7;
     out << c.name << ": E(0.2 s) = " << e.final << " J/m (E/E0 " << e.final / e0 << "); measured as Tesserae does, "
-        << e.tesseraeFinal << " against Tesserae's " << c.tesserae << ": relative difference " << error
-        << "; E/E_FLIP " << ratio << " against " << tesseraeRatio << " (" << ratio / tesseraeRatio - 1.0 << ")\n";
+        << e.tesseraeFinal << " against Tesserae's " << c.tesserae << ": relative difference " << error << "; E/E_FLIP "
+        << ratio << " against " << tesseraeRatio << " (" << ratio / tesseraeRatio - 1.0 << ")\n";
     TEST_FLOATING_EQUALITY(e.initial, e0, 1e-10);
     TEST_COMPARE(std::abs(error), <, 5e-2);
     // PIC's loss grows with the number of steps, which Tesserae's adaptive step sets a little

@@ -48,8 +48,8 @@ TEUCHOS_UNIT_TEST(RowScatter, SumsLikeKokkosContribute) {
     int differ = 0;
     for (int n = 0; n < nodes; ++n)
       for (int c = 0; c < columns; ++c) differ += x(n, c) != y(n, c);
-    out << "round " << round << ": " << differ << " sums differ from Kokkos' (threads: " << ExecutionSpace::concurrency()
-        << ")\n";
+    out << "round " << round << ": " << differ
+        << " sums differ from Kokkos' (threads: " << ExecutionSpace::concurrency() << ")\n";
     TEST_EQUALITY(differ, 0);
   }
 }

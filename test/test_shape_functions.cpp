@@ -22,7 +22,12 @@ using impm::UniformGimp;
 
 StructuredGrid testGrid() {
   StructuredGrid g;
-  g.x0 = -0.3; g.y0 = 0.1; g.hx = 0.5; g.hy = 0.25; g.nx = 12; g.ny = 9;
+  g.x0 = -0.3;
+  g.y0 = 0.1;
+  g.hx = 0.5;
+  g.hy = 0.25;
+  g.nx = 12;
+  g.ny = 9;
   return g;
 }
 
@@ -63,7 +68,10 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, UniformGimpPartitionOfUnity) { checkPartitionO
 template <class Shape>
 void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success, bool wholeGrid = false) {
   StructuredGrid g = testGrid();
-  g.dim = 3; g.z0 = 0.2; g.hz = 0.4; g.nz = 8;
+  g.dim = 3;
+  g.z0 = 0.2;
+  g.hz = 0.4;
+  g.nz = 8;
   if (std::is_same<Shape, impm::QuadraticLagrange>::value) g.ny = 10;  // even cell counts
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> frac(0.05, 0.5);
@@ -117,7 +125,9 @@ void checkPartitionOfUnity3d(Teuchos::FancyOStream& out, bool& success, bool who
 TEUCHOS_UNIT_TEST(ShapeFunctions, LinearMpm3dCompleteness) { checkPartitionOfUnity3d<LinearMpm>(out, success); }
 TEUCHOS_UNIT_TEST(ShapeFunctions, UniformGimp3dCompleteness) { checkPartitionOfUnity3d<UniformGimp>(out, success); }
 TEUCHOS_UNIT_TEST(ShapeFunctions, Hex27Completeness) { checkPartitionOfUnity3d<impm::QuadraticLagrange>(out, success); }
-TEUCHOS_UNIT_TEST(ShapeFunctions, BSpline3dCompletenessUpToTheEdge) { checkPartitionOfUnity3d<QuadraticBSpline>(out, success, true); }
+TEUCHOS_UNIT_TEST(ShapeFunctions, BSpline3dCompletenessUpToTheEdge) {
+  checkPartitionOfUnity3d<QuadraticBSpline>(out, success, true);
+}
 
 // B-splines in 2D at positions sweeping the whole grid in x (edge cells, grid lines and half-cell
 // lines included) at y on the edges, their half-cell lines and inside: N x N nodes (3 quadratic,
@@ -165,9 +175,15 @@ void checkSplineCompletenessUpToTheEdge(Teuchos::FancyOStream& out, bool& succes
   TEST_EQUALITY(visited, (perCell * g.nx + 1) * 9);
 }
 
-TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineCompletenessUpToTheEdge) { checkSplineCompletenessUpToTheEdge<QuadraticBSpline>(out, success); }
-TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSplineCompletenessUpToTheEdge) { checkSplineCompletenessUpToTheEdge<CubicBSpline>(out, success); }
-TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSpline3dCompletenessUpToTheEdge) { checkPartitionOfUnity3d<CubicBSpline>(out, success, true); }
+TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineCompletenessUpToTheEdge) {
+  checkSplineCompletenessUpToTheEdge<QuadraticBSpline>(out, success);
+}
+TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSplineCompletenessUpToTheEdge) {
+  checkSplineCompletenessUpToTheEdge<CubicBSpline>(out, success);
+}
+TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSpline3dCompletenessUpToTheEdge) {
+  checkPartitionOfUnity3d<CubicBSpline>(out, success, true);
+}
 
 // Jumps of a B-spline's 1D weights over the whole grid at every cell line, half-cell line and
 // quarter-cell line: in the weight, in h x its gradient weight and in h^2 x the gradient
@@ -217,8 +233,8 @@ SplineJumps splineJumps(const StructuredGrid& g) {
 TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineIsC1UpToTheEdge) {
   const StructuredGrid g = testGrid();
   const SplineJumps j = splineJumps<QuadraticBSpline>(g);
-  out << "B-spline: max jump over 2e-7 h: " << std::max(j.value, j.gradient) << " (w, h grad w); max |FD - grad| h: "
-      << j.derivative << "; max jump of h^2 w'': " << j.curvature << "\n";
+  out << "B-spline: max jump over 2e-7 h: " << std::max(j.value, j.gradient)
+      << " (w, h grad w); max |FD - grad| h: " << j.derivative << "; max jump of h^2 w'': " << j.curvature << "\n";
   TEST_COMPARE(j.value, <, 1e-6);
   TEST_COMPARE(j.gradient, <, 1e-6);
   TEST_COMPARE(j.derivative, <, 1e-6);
@@ -244,8 +260,8 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, BSplineIsC1UpToTheEdge) {
 TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSplineIsC2UpToTheEdge) {
   const StructuredGrid g = testGrid();
   const SplineJumps j = splineJumps<CubicBSpline>(g);
-  out << "cubic B-spline: max jump over 2e-7 h: " << std::max(j.value, j.gradient) << " (w, h grad w); max |FD - grad| h: "
-      << j.derivative << "; max jump of h^2 w'': " << j.curvature << "\n";
+  out << "cubic B-spline: max jump over 2e-7 h: " << std::max(j.value, j.gradient)
+      << " (w, h grad w); max |FD - grad| h: " << j.derivative << "; max jump of h^2 w'': " << j.curvature << "\n";
   TEST_COMPARE(j.value, <, 1e-6);
   TEST_COMPARE(j.gradient, <, 1e-6);
   TEST_COMPARE(j.derivative, <, 1e-6);

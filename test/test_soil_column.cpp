@@ -84,21 +84,23 @@ Deposit collapse(double a, double h, int steps, const std::string& outdir, bool 
   if (r.status != "completed") throw std::runtime_error("the collapse stopped: " + r.status);
   const double peak = *std::max_element(r.kinetic.begin(), r.kinetic.end());
   return {(depositFront(sim.particles(), wall, spacing, 0.01) - wall - L0) / L0,
-          (globalMax(sim.particles(), 0) + spacing / 2 - wall - L0) / L0, (globalMax(sim.particles(), 1) + spacing / 2 - wall) / L0,
-          r.kinetic.back() / peak, r.particleStepsPerSecond};
+          (globalMax(sim.particles(), 0) + spacing / 2 - wall - L0) / L0,
+          (globalMax(sim.particles(), 1) + spacing / 2 - wall) / L0, r.kinetic.back() / peak, r.particleStepsPerSecond};
 }
 
 void report(Teuchos::FancyOStream& out, double a, double h, const Deposit& dep) {
   out << "a = " << a << ", h = " << h << " m: (L_inf - L0)/L0 = " << dep.runOut << " (experiments " << 1.2 * a
-      << ", DEM " << 1.67 * a << "; the foremost particle: " << dep.tongue << "), H_f/L0 = " << dep.height << " (" << (a < 0.7 ? a : std::cbrt(a))
-      << "), final/peak kinetic energy " << dep.kineticRatio << ", " << dep.rate / 1e6 << " M particle-steps/s\n";
+      << ", DEM " << 1.67 * a << "; the foremost particle: " << dep.tongue << "), H_f/L0 = " << dep.height << " ("
+      << (a < 0.7 ? a : std::cbrt(a)) << "), final/peak kinetic energy " << dep.kineticRatio << ", " << dep.rate / 1e6
+      << " M particle-steps/s\n";
 }
 
 TEUCHOS_UNIT_TEST(ColumnCollapse, LowColumnSpreadsWithinTheLaws) {
   const double a = 0.5;
   std::vector<double> runOut;
   for (const double h : {0.01, 0.005}) {
-    const Deposit dep = collapse(a, h, int(std::lround(6000 * 0.01 / h)), "test_output/column_low_" + std::to_string(int(1e3 * h)));
+    const Deposit dep =
+        collapse(a, h, int(std::lround(6000 * 0.01 / h)), "test_output/column_low_" + std::to_string(int(1e3 * h)));
     report(out, a, h, dep);
     TEST_COMPARE(dep.kineticRatio, <, 1e-3);
     TEST_COMPARE(dep.runOut, >=, 1.2 * a);

@@ -22,7 +22,10 @@ void checkFill(StiffnessFill fill, Teuchos::FancyOStream& out, bool& success) {
   auto comm = Tpetra::getDefaultComm();
   if (comm->getSize() != 1) return;  // the reference below is one rank's (the Export sums ranks)
   StructuredGrid g;
-  g.nx = 12; g.ny = 6; g.hx = 1e-3; g.hy = 1e-3;
+  g.nx = 12;
+  g.ny = 6;
+  g.hx = 1e-3;
+  g.hy = 1e-3;
   GridDistribution dist(g, comm);
   RectangularBody body{1e-3, 11e-3, 1e-3, 5e-3, 3, 3, 1e-3};
   Materials mat{200e9, 0.3, 7800.0, PlaneCondition::PlaneStrain};
@@ -50,7 +53,8 @@ void checkFill(StiffnessFill fill, Teuchos::FancyOStream& out, bool& success) {
   const auto P = model.jacobianMatrix(u);
 
   // The reference: the kernel's blocks summed sequentially, block after block, into zero.
-  const BlockMatrices Kb = stencilStiffness<ExecutionSpace, UniformGimp, 2>(g, ps, mat.law(), opt.newmark.c1(dt), false);
+  const BlockMatrices Kb =
+      stencilStiffness<ExecutionSpace, UniformGimp, 2>(g, ps, mat.law(), opt.newmark.c1(dt), false);
   auto O = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.origin);
   auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.K);
   const auto rows = P->getRowMap();
@@ -65,7 +69,8 @@ void checkFill(StiffnessFill fill, Teuchos::FancyOStream& out, bool& success) {
         gid[2 * a + d] = FreeDofMap<2>::gid(nodes->getGlobalElement(ix(O(k, 0) + a % bn0, O(k, 1) + a / bn0)), d);
     for (int r = 0; r < nd; ++r)
       for (int c = 0; c < nd; ++c)
-        if (rows->isNodeGlobalElement(gid[r]) && rows->isNodeGlobalElement(gid[c])) reference[{gid[r], gid[c]}] += K(k, r, c);
+        if (rows->isNodeGlobalElement(gid[r]) && rows->isNodeGlobalElement(gid[c]))
+          reference[{gid[r], gid[c]}] += K(k, r, c);
   }
 
   size_t entries = 0, differing = 0, missing = 0;
@@ -90,15 +95,20 @@ void checkFill(StiffnessFill fill, Teuchos::FancyOStream& out, bool& success) {
   }
   for (const auto& [rc, value] : reference)
     if (value != 0.0 && assembled.find(rc) == assembled.end()) ++missing;
-  out << (fill == StiffnessFill::Parallel ? "parallel" : "sequential") << " fill, " << entries << " entries of P (" << Kb.count << " blocks, " << Kokkos::DefaultExecutionSpace().concurrency()
-      << " thread(s)): " << differing << " differ from the sequential block-order sum (largest relative difference "
-      << largestDifference << "), " << missing << " of the reference missing\n";
+  out << (fill == StiffnessFill::Parallel ? "parallel" : "sequential") << " fill, " << entries << " entries of P ("
+      << Kb.count << " blocks, " << Kokkos::DefaultExecutionSpace().concurrency() << " thread(s)): " << differing
+      << " differ from the sequential block-order sum (largest relative difference " << largestDifference << "), "
+      << missing << " of the reference missing\n";
   TEST_COMPARE(entries, >, 1000);
   TEST_EQUALITY(differing, 0);
   TEST_EQUALITY(missing, 0);
 }
 
-TEUCHOS_UNIT_TEST(StiffnessAssembler, SequentialFillSumsBlocksInBlockOrder) { checkFill(StiffnessFill::Sequential, out, success); }
-TEUCHOS_UNIT_TEST(StiffnessAssembler, ParallelFillSumsBlocksInBlockOrder) { checkFill(StiffnessFill::Parallel, out, success); }
+TEUCHOS_UNIT_TEST(StiffnessAssembler, SequentialFillSumsBlocksInBlockOrder) {
+  checkFill(StiffnessFill::Sequential, out, success);
+}
+TEUCHOS_UNIT_TEST(StiffnessAssembler, ParallelFillSumsBlocksInBlockOrder) {
+  checkFill(StiffnessFill::Parallel, out, success);
+}
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Particle-to-grid-to-particle transfers conserve mass and linear momentum, for every particle
-// shape function (MPM, GIMP, quadratic and cubic B-splines) and on any number of MPI ranks (grid sums travel through the Tpetra Import).
+// shape function (MPM, GIMP, quadratic and cubic B-splines) and on any number of MPI ranks (grid sums travel through
+// the Tpetra Import).
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_UnitTestHarness.hpp>
 #include <Tpetra_Core.hpp>
@@ -30,15 +31,22 @@ void checkConservation(Teuchos::FancyOStream& out, bool& success) {
   using K = KinColumns<Dim>;
   auto comm = Tpetra::getDefaultComm();
   StructuredGrid g;
-  g.nx = 16; g.ny = 6; g.hx = 0.25; g.hy = 0.5;
+  g.nx = 16;
+  g.ny = 6;
+  g.hx = 0.25;
+  g.hy = 0.5;
   RectangularBody body{0.5, 3.5, 0.5, 2.5, 3, 2, 0.1};
   if (Dim == 3) {
-    g.dim = 3; g.nz = 4; g.hz = 0.3;
-    body.zMin = 0.3; body.zMax = 0.9; body.particlesPerCellZ = 2;
+    g.dim = 3;
+    g.nz = 4;
+    g.hz = 0.3;
+    body.zMin = 0.3;
+    body.zMax = 0.9;
+    body.particlesPerCellZ = 2;
   }
   GridDistribution dist(g, comm);
   Materials mat(std::vector<MaterialParameters>{{1e6, 0.25, 1000.0}},
-                    Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStrain);
+                Dim == 3 ? PlaneCondition::Solid : PlaneCondition::PlaneStrain);
   ParticleSet ps = createParticles(body, mat, dist);
   TEST_EQUALITY(ps.dim, Dim);
 
@@ -80,13 +88,14 @@ void checkConservation(Teuchos::FancyOStream& out, bool& success) {
   {
     auto acc = f.accumOwned->getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto kinv = f.kinOwned->getLocalViewDevice(Tpetra::Access::OverwriteAll);
-    Kokkos::parallel_for("test_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
-      const double mn = acc(n, A::Mass);
-      for (int d = 0; d < Dim; ++d) {
-        kinv(n, K::VelX + d) = mn > 0 ? acc(n, A::MomX + d) / mn : 0.0;
-        kinv(n, K::AccX + d) = 0.0;
-      }
-    });
+    Kokkos::parallel_for(
+        "test_velocity", Kokkos::RangePolicy<ExecutionSpace>(0, acc.extent(0)), KOKKOS_LAMBDA(int n) {
+          const double mn = acc(n, A::Mass);
+          for (int d = 0; d < Dim; ++d) {
+            kinv(n, K::VelX + d) = mn > 0 ? acc(n, A::MomX + d) / mn : 0.0;
+            kinv(n, K::AccX + d) = 0.0;
+          }
+        });
   }
   f.importKinematics();
   {
@@ -131,7 +140,9 @@ TEUCHOS_UNIT_TEST(Transfer, Gimp3dConservesMassAndMomentum) { checkConservation<
 TEUCHOS_UNIT_TEST(Transfer, BSplineConservesMassAndMomentum) { checkConservation<QuadraticBSpline, 2>(out, success); }
 TEUCHOS_UNIT_TEST(Transfer, BSpline3dConservesMassAndMomentum) { checkConservation<QuadraticBSpline, 3>(out, success); }
 TEUCHOS_UNIT_TEST(Transfer, CubicBSplineConservesMassAndMomentum) { checkConservation<CubicBSpline, 2>(out, success); }
-TEUCHOS_UNIT_TEST(Transfer, CubicBSpline3dConservesMassAndMomentum) { checkConservation<CubicBSpline, 3>(out, success); }
+TEUCHOS_UNIT_TEST(Transfer, CubicBSpline3dConservesMassAndMomentum) {
+  checkConservation<CubicBSpline, 3>(out, success);
+}
 
 }  // namespace
 

@@ -25,7 +25,10 @@ double plateauMean(const impm::RunResult& r, const std::string& monitor, double 
   double sum = 0;
   int n = 0;
   for (size_t i = 0; i < r.time.size(); ++i)
-    if (r.time[i] >= t0 && r.time[i] <= t1) { sum += r.computed.at(monitor)[i]; ++n; }
+    if (r.time[i] >= t0 && r.time[i] <= t1) {
+      sum += r.computed.at(monitor)[i];
+      ++n;
+    }
   return n ? sum / n : NAN;
 }
 

@@ -28,7 +28,7 @@ constexpr double kLimit = 3.776;  // gamma H / c_u of a vertical Tresca cut
 constexpr double kHeight = 2.0, kCohesion = 1.0e4, kDensity = 2000.0;
 
 struct Collapse {
-  double below, above;  // N of the last step before the runaway and of the first in it
+  double below, above;     // N of the last step before the runaway and of the first in it
   double crestSettlement;  // at the end (N = 5)
   double newtonPerStep, gmresPerNewton, halvings;
 };
@@ -48,7 +48,10 @@ Collapse raiseGravity(bool fbar, const std::string& outdir) {
   const std::vector<double>& uy = hist.at("crest y");
   const auto number = [&](double time) { return kDensity * gravityEnd * time / rampTime * kHeight / kCohesion; };
   const double elastic = std::abs(uy[1] - uy[0]);
-  Collapse c{-1, -1, -uy.back(), impm_test::summaryValue(outdir, "Newton Iterations Mean"),
+  Collapse c{-1,
+             -1,
+             -uy.back(),
+             impm_test::summaryValue(outdir, "Newton Iterations Mean"),
              impm_test::summaryValue(outdir, "Krylov Iterations Per Newton Mean"),
              impm_test::summaryValue(outdir, "Step Halvings")};
   for (size_t k = 1; k < uy.size(); ++k)
@@ -62,9 +65,9 @@ Collapse raiseGravity(bool fbar, const std::string& outdir) {
 
 void report(Teuchos::FancyOStream& out, const char* what, const Collapse& c) {
   out << what << ": collapse between N = " << c.below << " and " << c.above << " (" << 100 * (c.below / kLimit - 1)
-      << "% to " << 100 * (c.above / kLimit - 1) << "% from " << kLimit << "), crest settlement at N = 5: "
-      << c.crestSettlement << " m; Newton per step " << c.newtonPerStep << ", GMRES per Newton " << c.gmresPerNewton
-      << ", step halvings " << c.halvings << "\n";
+      << "% to " << 100 * (c.above / kLimit - 1) << "% from " << kLimit
+      << "), crest settlement at N = 5: " << c.crestSettlement << " m; Newton per step " << c.newtonPerStep
+      << ", GMRES per Newton " << c.gmresPerNewton << ", step halvings " << c.halvings << "\n";
 }
 
 TEUCHOS_UNIT_TEST(VerticalCut, GravityIncreaseCollapsesAtTheLimitLoad) {

@@ -66,7 +66,8 @@ double meanOver(const impm::RunResult& r, const std::vector<double>& column, dou
 // within 2% of rho c v0 A; no force once the bar has left, and never a pull; the wall's impulse
 // equals the bar's momentum change to round-off (the wall is the only force). The rebound
 // velocity falls short of v0 by the energy left ringing in the bar (the dispersed front separates
-// the bar a little early): below 6% at h (measured 4.3%) and falling with h (2.6% at h / 2; bound 0.75 of the h figure).
+// the bar a little early): below 6% at h (measured 4.3%) and falling with h (2.6% at h / 2; bound 0.75 of the h
+// figure).
 TEUCHOS_UNIT_TEST(Walls, BarReboundsFromFrictionlessWall) {
   const double E = 1e7, rho = 1000, v0 = 1.0, L = 0.1, A = 5e-3, c = std::sqrt(E / rho);
   const double M = rho * L * A, force = rho * c * v0 * A, contact = 2 * L / c;
@@ -74,7 +75,10 @@ TEUCHOS_UNIT_TEST(Walls, BarReboundsFromFrictionlessWall) {
   for (int refine : {1, 2}) {
     ParameterList d = deckOf("bar_wall_impact_explicit_gimp.yaml");
     auto& g = d.sublist("Grid");
-    g.set("Cells X", 80 * refine).set("Cells Y", 2 * refine).set("Cell Size X", 2.5e-3 / refine).set("Cell Size Y", 2.5e-3 / refine);
+    g.set("Cells X", 80 * refine)
+        .set("Cells Y", 2 * refine)
+        .set("Cell Size X", 2.5e-3 / refine)
+        .set("Cell Size Y", 2.5e-3 / refine);
     d.sublist("Integrator").set("Time Step", 5e-6 / refine).set("Number of Steps", 700 * refine);
     const impm::RunResult r = run(d, "test_output/walls_bar_" + std::to_string(refine));
     TEST_EQUALITY_CONST(r.status, "completed");
@@ -142,10 +146,21 @@ TEUCHOS_UNIT_TEST(Walls, FloorHoldsTheNodesOfASymmetryPlane) {
   for (int steps : {20, 40, 50, 60, 80, 100}) {
     ParameterList d = deckOf("block_sliding_friction_explicit_gimp.yaml");
     d.sublist("Grid").set("Origin Y", -0.005).set("Cells Y", 10).set("Cells X", 30);
-    d.sublist("Bodies").sublist("block").set("X Min", 0.0).set("X Max", 0.04).set("Velocity X", 0.0).set("Velocity Y", -3.0);
+    d.sublist("Bodies")
+        .sublist("block")
+        .set("X Min", 0.0)
+        .set("X Max", 0.04)
+        .set("Velocity X", 0.0)
+        .set("Velocity Y", -3.0);
     d.sublist("Walls").sublist("floor").set("Friction", 0.0);
-    d.sublist("Constraints").sublist("symmetry").set("Where", "Box").set("X Min", -1e-9).set("X Max", 1e-9)
-        .set("Y Min", -1.0).set("Y Max", 1.0).set("Components", "x");
+    d.sublist("Constraints")
+        .sublist("symmetry")
+        .set("Where", "Box")
+        .set("X Min", -1e-9)
+        .set("X Max", 1e-9)
+        .set("Y Min", -1.0)
+        .set("Y Max", 1.0)
+        .set("Components", "x");
     d.sublist("Integrator").set("Number of Steps", steps);
     d.sublist("Output").set("History Interval", 10);
     impm::validateDeck(d);
@@ -242,7 +257,10 @@ TEUCHOS_UNIT_TEST(Walls, ImplicitBlockSlidesToAStopWithCoulombFriction) {
     // ImplicitBarReboundsFromFrictionlessWall.)
     d.sublist("Grid").set("Cells Y", 4);
     d.sublist("Decomposition").set("Ranks X", 1);
-    d.sublist("Integrator").set("Type", "Implicit").set("Time Step", dt).set("Number of Steps", int(std::lround(end / dt)));
+    d.sublist("Integrator")
+        .set("Type", "Implicit")
+        .set("Time Step", dt)
+        .set("Number of Steps", int(std::lround(end / dt)));
     d.sublist("Integrator").sublist("Implicit").set("Newmark Gamma", 0.6).set("Newmark Beta", 0.3025);
     d.sublist("Loads").sublist("gravity").set("Time Function", "Ramp").set("Ramp Time", ramp);
     d.sublist("Output").set("History Interval", 1);
@@ -279,7 +297,8 @@ TEUCHOS_UNIT_TEST(Walls, ImplicitBlockSlidesToAStopWithCoulombFriction) {
   TEST_EQUALITY_CONST(r.status, "completed");
   if (r.status != "completed") return;
   const double vLast = r.momentumX.back() / M, rub = meanOver(r, r.reactions.at("floor_reaction_x"), 0.0, 0.1);
-  out << "implicit, frictionless: v(" << r.time.back() << " s) = " << vLast << " m/s; tangential force " << rub << " N\n";
+  out << "implicit, frictionless: v(" << r.time.back() << " s) = " << vLast << " m/s; tangential force " << rub
+      << " N\n";
   TEST_COMPARE(std::abs(vLast / v0 - 1), <, 1e-6);
   TEST_EQUALITY_CONST(rub, 0.0);
 }
@@ -300,8 +319,12 @@ TEUCHOS_UNIT_TEST(Walls, ImplicitRoughFloorHoldsBlock) {
   d.sublist("Decomposition").set("Ranks X", 1);
   d.sublist("Integrator").set("Type", "Implicit").set("Time Step", 2.5e-3).set("Number of Steps", 80);
   d.sublist("Integrator").sublist("Implicit").set("Newmark Gamma", 0.6).set("Newmark Beta", 0.3025);
-  d.sublist("Loads").sublist("gravity").set("Time Function", "Ramp").set("Ramp Time", 0.05)
-      .set("Acceleration X", g * std::sin(theta)).set("Acceleration Y", -g * std::cos(theta));
+  d.sublist("Loads")
+      .sublist("gravity")
+      .set("Time Function", "Ramp")
+      .set("Ramp Time", 0.05)
+      .set("Acceleration X", g * std::sin(theta))
+      .set("Acceleration Y", -g * std::cos(theta));
   d.sublist("Output").set("History Interval", 1);
   const impm::RunResult r = run(d, "test_output/walls_block_hold_implicit");
   TEST_EQUALITY_CONST(r.status, "completed");

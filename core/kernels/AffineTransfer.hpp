@@ -20,7 +20,9 @@ namespace impm {
 // FLIP's kernels and replaces the old particle velocity first (solvers/XpicExtrapolation.hpp).
 enum class ParticleTransfer { FlipPic, Apic, Tpic, Xpic };
 
-inline bool carriesAffineVelocity(ParticleTransfer t) { return t == ParticleTransfer::Apic || t == ParticleTransfer::Tpic; }
+inline bool carriesAffineVelocity(ParticleTransfer t) {
+  return t == ParticleTransfer::Apic || t == ParticleTransfer::Tpic;
+}
 
 // How APIC's C_p = B_p D_p^-1 is computed for a shape.
 //   General:  D_p summed over the stencil and inverted (GIMP, cpGIMP, CPDI).
@@ -101,7 +103,8 @@ KOKKOS_INLINE_FUNCTION void apicInertia(const ParticleStencil<Shape, Dim>& st, c
 
 // APIC's C = B D^-1 from B = sum_i S_ip v_i (x_i - x_p)^T and D (General form).
 template <int Dim>
-KOKKOS_INLINE_FUNCTION void apicAffine(const double (&B)[Dim][Dim], const double (&D)[Dim][Dim], double (&C)[Dim][Dim]) {
+KOKKOS_INLINE_FUNCTION void apicAffine(const double (&B)[Dim][Dim], const double (&D)[Dim][Dim],
+                                       double (&C)[Dim][Dim]) {
   double Dinv[Dim][Dim];
   inverse<Dim>(D, determinant<Dim>(D), Dinv);
   multiply<Dim>(B, Dinv, C);

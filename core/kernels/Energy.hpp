@@ -22,7 +22,11 @@ struct ParticleTotals {
 
 template <class ExecSpace, int Dim, class Law>
 ParticleTotals particleTotals(const ParticleSet& ps, const Law& law, const Teuchos::Comm<int>& comm) {
-  auto m = ps.mass; auto v = ps.v; auto s = ps.stress; auto V = ps.volume; auto matId = ps.material;
+  auto m = ps.mass;
+  auto v = ps.v;
+  auto s = ps.stress;
+  auto V = ps.volume;
+  auto matId = ps.material;
   auto F = FixedParticleViews<Dim>(ps).F;
   auto hist = ps.history;
   double local[6] = {0, 0, 0, 0, 0, 0};
@@ -50,8 +54,11 @@ ParticleTotals particleTotals(const ParticleSet& ps, const Law& law, const Teuch
   double global[6];
   Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, 6, local, global);
   ParticleTotals t;
-  t.kinetic = global[0]; t.strain = global[1];
-  t.momentum[0] = global[2]; t.momentum[1] = global[3]; t.momentum[2] = global[4];
+  t.kinetic = global[0];
+  t.strain = global[1];
+  t.momentum[0] = global[2];
+  t.momentum[1] = global[3];
+  t.momentum[2] = global[4];
   t.momentumScale = global[5];
   return t;
 }

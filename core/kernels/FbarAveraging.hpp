@@ -69,8 +69,9 @@ class FbarAveraging {
   FbarAveraging(const GridDistribution& dist, int materialCount)
       : dist_(dist),
         owned_(Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * materialCount))),
-        ghosted_(dist.comm()->getSize() == 1 ? owned_
-                                             : Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2 * materialCount))) {}
+        ghosted_(dist.comm()->getSize() == 1
+                     ? owned_
+                     : Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), 2 * materialCount))) {}
 
   // The cell sums of V_p det(I + scale L_p) and V_p, L = the particles' gradient view (explicit:
   // grad v, scale dt; implicit: grad u, scale 1), gathered over the ranks. Collective.
@@ -80,7 +81,10 @@ class FbarAveraging {
       auto sums = ghosted_->getLocalViewDevice(Tpetra::Access::OverwriteAll);
       Kokkos::deep_copy(sums, 0.0);
       const FixedParticleViews<Dim> pv(ps);
-      auto x = pv.x; auto L = pv.gradient; auto V = ps.volume; auto mat = ps.material;
+      auto x = pv.x;
+      auto L = pv.gradient;
+      auto V = ps.volume;
+      auto mat = ps.material;
       const StructuredGrid g = dist_.grid();
       const LocalNodeIndexer ix = dist_.ghostedIndexer();
       auto scatter = Kokkos::Experimental::create_scatter_view(sums);
@@ -124,8 +128,8 @@ class FbarAveraging {
   // The correction for the particles as accumulated (valid until the next accumulate).
   auto correction(const ParticleSet& ps) const {
     auto sums = ghosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    return FbarCorrection<Dim, decltype(sums)>{sums, dist_.grid(), dist_.ghostedIndexer(), FixedParticleViews<Dim>(ps).x,
-                                               ps.material};
+    return FbarCorrection<Dim, decltype(sums)>{sums, dist_.grid(), dist_.ghostedIndexer(),
+                                               FixedParticleViews<Dim>(ps).x, ps.material};
   }
 
  private:

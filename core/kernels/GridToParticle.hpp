@@ -61,66 +61,71 @@ KOKKOS_INLINE_FUNCTION void gatherAffineKinematics(const ParticleStencil<Shape, 
 // the same pass. Each particle reads its own field's columns (`fields`).
 template <ParticleTransfer Transfer, class ExecSpace, class Shape, int Dim, class Law, class GridView, class Fields>
 void gridToParticleExplicitWith(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                                const GridView& kinematics, double dt, double flip, bool movePositions,
-                                const Law& law, bool updateStressNow, const Fields& fields) {
+                                const GridView& kinematics, double dt, double flip, bool movePositions, const Law& law,
+                                bool updateStressNow, const Fields& fields) {
   using K = KinColumns<Dim>;
   const FixedParticleViews<Dim> pv(ps);
-  auto x = pv.x; auto v = pv.v; auto a = pv.a; auto L = pv.gradient; auto affine = pv.affine;
+  auto x = pv.x;
+  auto v = pv.v;
+  auto a = pv.a;
+  auto L = pv.gradient;
+  auto affine = pv.affine;
   const DomainConvection domain = ConvectsDomain<Shape>::value ? DomainConvection(g) : DomainConvection();
   const StructuredGrid nodes = g;
-  gatherFromGrid<ExecSpace, Shape, Dim>("g2p", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
-    double vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {};
-    const int f = fields.offset(p);
-    if constexpr (Transfer == ParticleTransfer::FlipPic) {
-      st.forEachNode(ix, [&](int n, double w, const double* dw) {
-        for (int i = 0; i < Dim; ++i) {
-          const double gv = kinematics(n, f + K::VelX + i);
-          vi[i] += w * gv;
-          ai[i] += w * kinematics(n, f + K::AccX + i);
-          for (int j = 0; j < Dim; ++j) grad[i][j] += gv * dw[j];
+  gatherFromGrid<ExecSpace, Shape, Dim>(
+      "g2p", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
+        double vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {};
+        const int f = fields.offset(p);
+        if constexpr (Transfer == ParticleTransfer::FlipPic) {
+          st.forEachNode(ix, [&](int n, double w, const double* dw) {
+            for (int i = 0; i < Dim; ++i) {
+              const double gv = kinematics(n, f + K::VelX + i);
+              vi[i] += w * gv;
+              ai[i] += w * kinematics(n, f + K::AccX + i);
+              for (int j = 0; j < Dim; ++j) grad[i][j] += gv * dw[j];
+            }
+          });
+          for (int i = 0; i < Dim; ++i) {
+            v(p, i) = flip * (v(p, i) + dt * ai[i]) + (1.0 - flip) * vi[i];
+            a(p, i) = ai[i];
+          }
+        } else {
+          double xp[Dim], C[Dim][Dim];
+          for (int i = 0; i < Dim; ++i) xp[i] = x(p, i);
+          gatherAffineKinematics<Transfer>(st, nodes, ix, kinematics, f, xp, vi, ai, grad, C);
+          for (int i = 0; i < Dim; ++i) {
+            v(p, i) = vi[i];
+            a(p, i) = ai[i];
+            for (int j = 0; j < Dim; ++j) affine(p, i, j) = C[i][j];
+          }
         }
+        if (updateStressNow) {
+          for (int i = 0; i < Dim; ++i)
+            for (int j = 0; j < Dim; ++j) grad[i][j] *= dt;
+          updateParticleState<Dim>(pv, law, p, grad, true, domain);
+        } else {
+          for (int i = 0; i < Dim; ++i)
+            for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];
+        }
+        if (movePositions)
+          for (int i = 0; i < Dim; ++i) x(p, i) += dt * vi[i];
       });
-      for (int i = 0; i < Dim; ++i) {
-        v(p, i) = flip * (v(p, i) + dt * ai[i]) + (1.0 - flip) * vi[i];
-        a(p, i) = ai[i];
-      }
-    } else {
-      double xp[Dim], C[Dim][Dim];
-      for (int i = 0; i < Dim; ++i) xp[i] = x(p, i);
-      gatherAffineKinematics<Transfer>(st, nodes, ix, kinematics, f, xp, vi, ai, grad, C);
-      for (int i = 0; i < Dim; ++i) {
-        v(p, i) = vi[i];
-        a(p, i) = ai[i];
-        for (int j = 0; j < Dim; ++j) affine(p, i, j) = C[i][j];
-      }
-    }
-    if (updateStressNow) {
-      for (int i = 0; i < Dim; ++i)
-        for (int j = 0; j < Dim; ++j) grad[i][j] *= dt;
-      updateParticleState<Dim>(pv, law, p, grad, true, domain);
-    } else {
-      for (int i = 0; i < Dim; ++i)
-        for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];
-    }
-    if (movePositions)
-      for (int i = 0; i < Dim; ++i) x(p, i) += dt * vi[i];
-  });
 }
 
 template <class ExecSpace, class Shape, int Dim, class Law, class GridView, class Fields = SingleField>
 void gridToParticleExplicit(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
-                            const GridView& kinematics, double dt, double flip, bool movePositions,
-                            const Law& law, bool updateStressNow, const Fields& fields = Fields(),
+                            const GridView& kinematics, double dt, double flip, bool movePositions, const Law& law,
+                            bool updateStressNow, const Fields& fields = Fields(),
                             ParticleTransfer transfer = ParticleTransfer::FlipPic) {
   if (transfer == ParticleTransfer::Apic)
-    gridToParticleExplicitWith<ParticleTransfer::Apic, ExecSpace, Shape, Dim>(g, ix, ps, kinematics, dt, flip,
-                                                                              movePositions, law, updateStressNow, fields);
+    gridToParticleExplicitWith<ParticleTransfer::Apic, ExecSpace, Shape, Dim>(
+        g, ix, ps, kinematics, dt, flip, movePositions, law, updateStressNow, fields);
   else if (transfer == ParticleTransfer::Tpic)
-    gridToParticleExplicitWith<ParticleTransfer::Tpic, ExecSpace, Shape, Dim>(g, ix, ps, kinematics, dt, flip,
-                                                                              movePositions, law, updateStressNow, fields);
+    gridToParticleExplicitWith<ParticleTransfer::Tpic, ExecSpace, Shape, Dim>(
+        g, ix, ps, kinematics, dt, flip, movePositions, law, updateStressNow, fields);
   else
-    gridToParticleExplicitWith<ParticleTransfer::FlipPic, ExecSpace, Shape, Dim>(g, ix, ps, kinematics, dt, flip,
-                                                                                 movePositions, law, updateStressNow, fields);
+    gridToParticleExplicitWith<ParticleTransfer::FlipPic, ExecSpace, Shape, Dim>(
+        g, ix, ps, kinematics, dt, flip, movePositions, law, updateStressNow, fields);
 }
 
 // gradient_p = sum_i grad S_ip (x) w_i for a grid vector field in columns col...
@@ -128,18 +133,19 @@ template <class ExecSpace, class Shape, int Dim, class GridView, class Fields = 
 void gridGradientAtParticles(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                              const GridView& field, int col, const Fields& fields = Fields()) {
   auto L = FixedParticleViews<Dim>(ps).gradient;
-  gatherFromGrid<ExecSpace, Shape, Dim>("grid_gradient", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
-    double grad[Dim][Dim] = {};
-    const int c = col + fields.offset(p);
-    st.forEachNode(ix, [&](int n, double, const double* dw) {
-      for (int i = 0; i < Dim; ++i) {
-        const double wi = field(n, c + i);
-        for (int j = 0; j < Dim; ++j) grad[i][j] += wi * dw[j];
-      }
-    });
-    for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];
-  });
+  gatherFromGrid<ExecSpace, Shape, Dim>(
+      "grid_gradient", g, ps, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
+        double grad[Dim][Dim] = {};
+        const int c = col + fields.offset(p);
+        st.forEachNode(ix, [&](int n, double, const double* dw) {
+          for (int i = 0; i < Dim; ++i) {
+            const double wi = field(n, c + i);
+            for (int j = 0; j < Dim; ++j) grad[i][j] += wi * dw[j];
+          }
+        });
+        for (int i = 0; i < Dim; ++i)
+          for (int j = 0; j < Dim; ++j) L(p, i, j) = grad[i][j];
+      });
 }
 
 // target_p = (accumulate ? target_p : 0) + scale * sum_i S_ip w_i for a grid vector field in

@@ -14,7 +14,7 @@ namespace impm {
 // (StressLayout<Dim>).
 template <class Shape, int Dim, class Access>
 KOKKOS_FORCEINLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
-                                                     double V, const double* s, Access& out, int forceCol) {
+                                                      double V, const double* s, Access& out, int forceCol) {
   using SL = StressLayout<Dim>;
   st.forEachNode(ix, [&](int n, double, const double* grad) {
     for (int i = 0; i < Dim; ++i) {
@@ -31,9 +31,9 @@ KOKKOS_FORCEINLINE_FUNCTION void scatterInternalForce(const ParticleStencil<Shap
 // makes the residual's derivative (the Jacobian-free product) the full current-configuration
 // tangent, material and geometric.
 template <class Shape, int Dim, class Access>
-KOKKOS_INLINE_FUNCTION void scatterInternalForceDeformed(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
-                                                         double V, const double* s, const double (&G)[Dim][Dim],
-                                                         Access& out, int forceCol) {
+KOKKOS_INLINE_FUNCTION void scatterInternalForceDeformed(const ParticleStencil<Shape, Dim>& st,
+                                                         const LocalNodeIndexer& ix, double V, const double* s,
+                                                         const double (&G)[Dim][Dim], Access& out, int forceCol) {
   using SL = StressLayout<Dim>;
   double dF[Dim][Dim], inv[Dim][Dim];
   for (int i = 0; i < Dim; ++i)

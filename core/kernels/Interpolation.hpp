@@ -63,10 +63,11 @@ void forEachRowBlock(const char* label, size_t rows, const F& f) {
 
 template <class ExecSpace, class GridView>
 void zeroGridRows(const GridView& grid) {
-  forEachRowBlock<ExecSpace>("zero_grid_rows", grid.extent(0), KOKKOS_LAMBDA(size_t begin, size_t end) {
-    for (size_t c = 0; c < grid.extent(1); ++c)
-      for (size_t n = begin; n < end; ++n) grid(n, c) = 0.0;
-  });
+  forEachRowBlock<ExecSpace>(
+      "zero_grid_rows", grid.extent(0), KOKKOS_LAMBDA(size_t begin, size_t end) {
+        for (size_t c = 0; c < grid.extent(1); ++c)
+          for (size_t n = begin; n < end; ++n) grid(n, c) = 0.0;
+      });
 }
 
 // The Kokkos ScatterView of a grid view, with its per-thread copies zeroed and summed by node
@@ -88,11 +89,12 @@ class RowScatterView : public decltype(Kokkos::Experimental::create_scatter_view
   void resetRows() {
     if constexpr (kDuplicated) {
       auto copies = this->internal_view;  // (node, column, copy)
-      forEachRowBlock<ExecSpace>("scatter_reset_rows", copies.extent(0), KOKKOS_LAMBDA(size_t begin, size_t end) {
-        for (size_t t = 0; t < copies.extent(2); ++t)
-          for (size_t c = 0; c < copies.extent(1); ++c)
-            for (size_t n = begin; n < end; ++n) copies(n, c, t) = 0.0;
-      });
+      forEachRowBlock<ExecSpace>(
+          "scatter_reset_rows", copies.extent(0), KOKKOS_LAMBDA(size_t begin, size_t end) {
+            for (size_t t = 0; t < copies.extent(2); ++t)
+              for (size_t c = 0; c < copies.extent(1); ++c)
+                for (size_t n = begin; n < end; ++n) copies(n, c, t) = 0.0;
+          });
     } else {
       this->reset();
     }
@@ -101,11 +103,12 @@ class RowScatterView : public decltype(Kokkos::Experimental::create_scatter_view
   void contributeRows(const GridView& dest) const {
     if constexpr (kDuplicated) {
       auto copies = this->internal_view;
-      forEachRowBlock<ExecSpace>("scatter_contribute_rows", dest.extent(0), KOKKOS_LAMBDA(size_t begin, size_t end) {
-        for (size_t c = 0; c < dest.extent(1); ++c)
-          for (size_t t = 0; t < copies.extent(2); ++t)  // copy by copy, in Kokkos' order
-            for (size_t n = begin; n < end; ++n) dest(n, c) += copies(n, c, t);
-      });
+      forEachRowBlock<ExecSpace>(
+          "scatter_contribute_rows", dest.extent(0), KOKKOS_LAMBDA(size_t begin, size_t end) {
+            for (size_t c = 0; c < dest.extent(1); ++c)
+              for (size_t t = 0; t < copies.extent(2); ++t)  // copy by copy, in Kokkos' order
+                for (size_t n = begin; n < end; ++n) dest(n, c) += copies(n, c, t);
+          });
     } else {
       GridView target = dest;  // contribute() takes a non-const view
       Kokkos::Experimental::contribute(target, static_cast<const Base&>(*this));
@@ -150,7 +153,8 @@ void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet
   static_assert(GridView::rank == 2, "scatterToGrid: a grid view is nodes x columns");
   auto sv = ScatterBuffer<GridView>::zeroedFor(grid);
   const FixedParticleViews<Dim> pv(ps);
-  auto x = pv.x; auto hs = pv.halfSize;
+  auto x = pv.x;
+  auto hs = pv.halfSize;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   const StencilGrid sg(g);
   Kokkos::parallel_for(
@@ -165,7 +169,8 @@ void scatterToGrid(const char* label, const StructuredGrid& g, const ParticleSet
 template <class ExecSpace, class Shape, int Dim, class Body>
 void gatherFromGrid(const char* label, const StructuredGrid& g, const ParticleSet& ps, const Body& body) {
   const FixedParticleViews<Dim> pv(ps);
-  auto x = pv.x; auto hs = pv.halfSize;
+  auto x = pv.x;
+  auto hs = pv.halfSize;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   const StencilGrid sg(g);
   Kokkos::parallel_for(

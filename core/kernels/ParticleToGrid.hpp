@@ -15,8 +15,8 @@ namespace impm {
 // One particle's mass and momentum m v (and m a when accCol >= 0), for a stencil already built.
 template <class Shape, int Dim, class Access>
 KOKKOS_INLINE_FUNCTION void scatterMassMomentum(const ParticleStencil<Shape, Dim>& st, const LocalNodeIndexer& ix,
-                                                double mp, const double* vp, const double* ap, Access& out,
-                                                int massCol, int momCol, int accCol) {
+                                                double mp, const double* vp, const double* ap, Access& out, int massCol,
+                                                int momCol, int accCol) {
   st.forEachNode(ix, [&](int n, double S, const double*) {
     const double w = mp * S;
     if (massCol >= 0) out(n, massCol) += w;
@@ -47,7 +47,12 @@ void particleToGridAffineMomentum(const StructuredGrid& g, const LocalNodeIndexe
                                   const GridView& grid, int massCol, int momCol, int accCol, int forceCol,
                                   int geometryCol, const Fields& fields) {
   const FixedParticleViews<Dim> pv(ps);
-  auto m = pv.mass; auto v = pv.v; auto a = pv.a; auto vol = pv.volume; auto x = pv.x; auto stress = pv.stress;
+  auto m = pv.mass;
+  auto v = pv.v;
+  auto a = pv.a;
+  auto vol = pv.volume;
+  auto x = pv.x;
+  auto stress = pv.stress;
   auto C = pv.affine;
   const StructuredGrid nodes = g;
   scatterToGrid<ExecSpace, Shape, Dim>(
@@ -79,11 +84,16 @@ void particleToGridMassMomentum(const StructuredGrid& g, const LocalNodeIndexer&
                                 const GridView& grid, int massCol, int momCol, int accCol = -1, int geometryCol = -1,
                                 const Fields& fields = Fields(), bool affine = false) {
   if (affine) {
-    particleToGridAffineMomentum<ExecSpace, Shape, Dim>(g, ix, ps, grid, massCol, momCol, accCol, -1, geometryCol, fields);
+    particleToGridAffineMomentum<ExecSpace, Shape, Dim>(g, ix, ps, grid, massCol, momCol, accCol, -1, geometryCol,
+                                                        fields);
     return;
   }
   const FixedParticleViews<Dim> pv(ps);
-  auto m = pv.mass; auto v = pv.v; auto a = pv.a; auto vol = pv.volume; auto x = pv.x;
+  auto m = pv.mass;
+  auto v = pv.v;
+  auto a = pv.a;
+  auto vol = pv.volume;
+  auto x = pv.x;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double vp[Dim], ap[Dim];
@@ -109,11 +119,16 @@ void particleToGridMomentumAndForce(const StructuredGrid& g, const LocalNodeInde
                                     const GridView& grid, int massCol, int momCol, int forceCol, int geometryCol = -1,
                                     const Fields& fields = Fields(), bool affine = false) {
   if (affine) {
-    particleToGridAffineMomentum<ExecSpace, Shape, Dim>(g, ix, ps, grid, massCol, momCol, -1, forceCol, geometryCol, fields);
+    particleToGridAffineMomentum<ExecSpace, Shape, Dim>(g, ix, ps, grid, massCol, momCol, -1, forceCol, geometryCol,
+                                                        fields);
     return;
   }
   const FixedParticleViews<Dim> pv(ps);
-  auto m = pv.mass; auto v = pv.v; auto vol = pv.volume; auto stress = pv.stress; auto x = pv.x;
+  auto m = pv.mass;
+  auto v = pv.v;
+  auto vol = pv.volume;
+  auto stress = pv.stress;
+  auto x = pv.x;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double vp[Dim], s[StressLayout<Dim>::count];
@@ -139,7 +154,8 @@ template <class ExecSpace, class Shape, int Dim, class FieldView, class GridView
 void particleToGridProjectionResidual(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                       const FieldView& field, int col, const GridView& grid, int outCol,
                                       const ParticleSet::Vec& particleField) {
-  auto m = ps.mass; auto v = FixedParticleViews<Dim>::vec(particleField);
+  auto m = ps.mass;
+  auto v = FixedParticleViews<Dim>::vec(particleField);
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g_projection_residual", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double f[Dim] = {};
@@ -175,12 +191,14 @@ void particleToGridMassProduct(const StructuredGrid& g, const LocalNodeIndexer& 
 // loaded particles that share a node in whichever order the threads came, and the last bits of
 // the load changed from run to run (at 2 threads a cantilever's two-particle tip load made Newton
 // converge in one run and fail in the next).
-template <class ExecSpace, class Shape, int Dim, class GridView, class IndexView, class ForceView, class Fields = SingleField>
+template <class ExecSpace, class Shape, int Dim, class GridView, class IndexView, class ForceView,
+          class Fields = SingleField>
 void particleToGridForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                           const IndexView& index, const ForceView& force, const GridView& grid, int forceCol,
                           const Fields& fields = Fields()) {
   const FixedParticleViews<Dim> pv(ps);
-  auto x = pv.x; auto hs = pv.halfSize;
+  auto x = pv.x;
+  auto hs = pv.halfSize;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   const int count = index.extent(0);
   if (count == 0) return;
@@ -202,7 +220,8 @@ template <class ExecSpace, class Shape, int Dim, class GridView, class Accelerat
 void particleToGridBodyForces(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                               const AccelerationView& bodyAcceleration, const GridView& grid, int forceCol,
                               const Fields& fields = Fields()) {
-  auto m = ps.mass; auto body = ps.body;
+  auto m = ps.mass;
+  auto body = ps.body;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g_body_forces", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double f[Dim];
@@ -221,7 +240,9 @@ template <class ExecSpace, class Shape, int Dim, class Field, class GridView, cl
 void particleToGridBodyForceField(const StructuredGrid& g, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                   const Field& field, double t, int bodyIndex, const GridView& grid, int forceCol,
                                   const Fields& fields = Fields()) {
-  auto m = ps.mass; auto body = ps.body; auto x0 = ps.x0;
+  auto m = ps.mass;
+  auto body = ps.body;
+  auto x0 = ps.x0;
   scatterToGrid<ExecSpace, Shape, Dim>(
       "p2g_body_force_field", g, ps, grid, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         if (bodyIndex >= 0 && body(p) != bodyIndex) return;

@@ -26,7 +26,7 @@ namespace impm {
 struct BlockMatrices {
   int count = 0;
   int dim = 2;
-  int blockNodes[3] = {2, 2, 1};  // nodes per direction of a block (1 in z for 2D)
+  int blockNodes[3] = {2, 2, 1};                                // nodes per direction of a block (1 in z for 2D)
   Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> origin;  // count x dim
   Kokkos::View<double***, Kokkos::LayoutRight, DeviceType> K;
   int nodes() const { return blockNodes[0] * blockNodes[1] * blockNodes[2]; }
@@ -83,7 +83,8 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
   out.count = pairs.count;
   out.origin = decltype(out.origin)("overlap_block_origin", pairs.count, 2);
   {
-    auto O = out.origin; auto C = pairs.cell;
+    auto O = out.origin;
+    auto C = pairs.cell;
     Kokkos::parallel_for(
         "overlap_block_origin", Kokkos::RangePolicy<ExecSpace>(0, pairs.count), KOKKOS_LAMBDA(int k) {
           O(k, 0) = C(k, 0);
@@ -91,8 +92,14 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
         });
   }
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("overlap_stiffness", pairs.count, 8, 8);
-  auto P = pairs.particle; auto C = pairs.cell; auto B = pairs.box;
-  auto V = ps.volume; auto V0 = ps.volume0; auto hs = ps.halfSize; auto matId = ps.material; auto x = ps.x;
+  auto P = pairs.particle;
+  auto C = pairs.cell;
+  auto B = pairs.box;
+  auto V = ps.volume;
+  auto V0 = ps.volume0;
+  auto hs = ps.halfSize;
+  auto matId = ps.material;
+  auto x = ps.x;
   auto hist = ps.history;
   auto K = out.K;
   Kokkos::parallel_for(
@@ -106,8 +113,10 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
         const double qy[2] = {0.5 * (c + d) - 0.5 * (d - c) * s, 0.5 * (c + d) + 0.5 * (d - c) * s};
         // The particle's volume over its domain clipped to the grid (the boxes are clipped too,
         // as the stencils are; see ParticleStencil::build1d).
-        const double clippedWidth = detail::minOf(x(p, 0) + hs(p, 0), g.xMax()) - detail::maxOf(x(p, 0) - hs(p, 0), g.x0);
-        const double clippedHeight = detail::minOf(x(p, 1) + hs(p, 1), g.yMax()) - detail::maxOf(x(p, 1) - hs(p, 1), g.y0);
+        const double clippedWidth =
+            detail::minOf(x(p, 0) + hs(p, 0), g.xMax()) - detail::maxOf(x(p, 0) - hs(p, 0), g.x0);
+        const double clippedHeight =
+            detail::minOf(x(p, 1) + hs(p, 1), g.yMax()) - detail::maxOf(x(p, 1) - hs(p, 1), g.y0);
         const double thickness = V(p) / (clippedWidth * clippedHeight);
         const double wq = 0.25 * (b - a) * (d - c) * thickness;
         double D[3][3], h[ParticleSet::kHistoryCount];
@@ -143,8 +152,8 @@ BlockMatrices overlapStiffness(const StructuredGrid& g, const ParticleCellPairs&
 // displacement whose gradient G is in ps.gradient: with dF = I + G, the gradients on the deformed
 // domain dF^-T grad S, its volume det(dF) V, and the law's stress and tangent at F = dF F_n.
 template <class ExecSpace, class Shape, int Dim, class Law>
-BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const Law& law,
-                               double massFactor = 0.0, bool atTrialState = false) {
+BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, const Law& law, double massFactor = 0.0,
+                               bool atTrialState = false) {
   constexpr int bn = Shape::max_nodes_1d;
   constexpr int maxNodes = Dim == 2 ? bn * bn : bn * bn * bn;
   BlockMatrices out;
@@ -156,11 +165,19 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
   const int nn = bnd[0] * bnd[1] * bnd[2], nd = Dim * nn;
   out.origin = decltype(out.origin)("stencil_block_origin", ps.count, Dim);
   out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("stencil_stiffness", ps.count, nd, nd);
-  auto O = out.origin; auto K = out.K;
-  auto x = ps.x; auto hs = ps.halfSize; auto V = ps.volume; auto V0 = ps.volume0; auto m = ps.mass; auto matId = ps.material;
+  auto O = out.origin;
+  auto K = out.K;
+  auto x = ps.x;
+  auto hs = ps.halfSize;
+  auto V = ps.volume;
+  auto V0 = ps.volume0;
+  auto m = ps.mass;
+  auto matId = ps.material;
   auto sigma = ps.stress;
   const FixedParticleViews<Dim> fixed(ps);
-  auto Fp = fixed.F; auto Gp = fixed.gradient; auto hist = ps.history;
+  auto Fp = fixed.F;
+  auto Gp = fixed.gradient;
+  auto hist = ps.history;
   const int b0 = bnd[0], b1 = bnd[1], b2 = bnd[2];
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps);
   Kokkos::parallel_for(

@@ -29,7 +29,7 @@ struct DomainConvection {
 // explicit G2P spent a fifth of its time in store-forwarding stalls).
 template <int Dim, class Law>
 KOKKOS_FUNCTION IMPM_NOINLINE void generalStress(const FixedParticleViews<Dim>& ps, const Law& law, int p, int m,
-                                 const double (&G)[Dim][Dim], const double (&Fn)[Dim][Dim], double* s) {
+                                                 const double (&G)[Dim][Dim], const double (&Fn)[Dim][Dim], double* s) {
   if (law.hasHistory(m)) {
     double h[ParticleSet::kHistoryCount];
     for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = ps.history(p, i);
@@ -43,8 +43,8 @@ KOKKOS_FUNCTION IMPM_NOINLINE void generalStress(const FixedParticleViews<Dim>& 
 // G[i][j] = d(increment)_i / dx_j.
 template <int Dim, class Law>
 KOKKOS_FORCEINLINE_FUNCTION void updateParticleState(const FixedParticleViews<Dim>& ps, const Law& law, int p,
-                                                     const double (&G)[Dim][Dim],
-                                                     bool updateVolume = true, const DomainConvection& domain = {}) {
+                                                     const double (&G)[Dim][Dim], bool updateVolume = true,
+                                                     const DomainConvection& domain = {}) {
   constexpr int ns = StressLayout<Dim>::count;
   // F <- (I + G) F column by column, each column stored as soon as it is computed (column j of
   // the new F needs only column j of the old one). Copying a finished Fn array into the view
@@ -78,7 +78,10 @@ KOKKOS_FORCEINLINE_FUNCTION void updateParticleState(const FixedParticleViews<Di
   } else {
     double Gc[Dim][Dim], Fc[Dim][Dim], sc[ns];
     for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) { Gc[i][j] = G[i][j]; Fc[i][j] = Fn[i][j]; }
+      for (int j = 0; j < Dim; ++j) {
+        Gc[i][j] = G[i][j];
+        Fc[i][j] = Fn[i][j];
+      }
     for (int c = 0; c < ns; ++c) sc[c] = ps.stress(p, c);
     generalStress<Dim>(ps, law, p, m, Gc, Fc, sc);
     for (int c = 0; c < ns; ++c) ps.stress(p, c) = sc[c];

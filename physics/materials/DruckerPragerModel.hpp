@@ -38,9 +38,9 @@ enum class DruckerPragerCone { PlaneStrain = 0, Outer = 1, Inner = 2 };
 
 struct DruckerPragerModel {
   double lambda, mu;
-  double eta, etaBar, xi;                  // the cone's slopes (from the friction and dilatancy angles)
-  double cohesion, hardening, residual;    // c_0, H (negative: softening) and c_r
-  static constexpr int historyCount = 7;   // b_e (6, stored layout) and alpha
+  double eta, etaBar, xi;                 // the cone's slopes (from the friction and dilatancy angles)
+  double cohesion, hardening, residual;   // c_0, H (negative: softening) and c_r
+  static constexpr int historyCount = 7;  // b_e (6, stored layout) and alpha
 
   // The slopes of the cone matched to Mohr-Coulomb with friction angle `angle` (radians): the
   // pressure slope (eta, or etaBar from the dilatancy angle) and xi.
@@ -50,7 +50,8 @@ struct DruckerPragerModel {
       slope = 3.0 * t / root;
       xi = 3.0 / root;
     } else {
-      const double s = std::sin(angle), denominator = std::sqrt(3.0) * (cone == DruckerPragerCone::Outer ? 3.0 - s : 3.0 + s);
+      const double s = std::sin(angle),
+                   denominator = std::sqrt(3.0) * (cone == DruckerPragerCone::Outer ? 3.0 - s : 3.0 + s);
       slope = 6.0 * s / denominator;
       xi = 6.0 * std::cos(angle) / denominator;
     }
@@ -195,8 +196,9 @@ struct DruckerPragerModel {
       for (int a = 0; a < 3; ++a) n[a] = r.devTrial[a] / r.devNorm;
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
-          dTau[a][b] = 2.0 * mu * beta * ((a == b ? 1.0 : 0.0) - 1.0 / 3.0) + 2.0 * mu * (ratio - mu * A) * n[a] * n[b] -
-                       root2 * mu * A * K * (eta * n[a] + etaBar * n[b]) + K * (1.0 - K * eta * etaBar * A);
+          dTau[a][b] = 2.0 * mu * beta * ((a == b ? 1.0 : 0.0) - 1.0 / 3.0) +
+                       2.0 * mu * (ratio - mu * A) * n[a] * n[b] - root2 * mu * A * K * (eta * n[a] + etaBar * n[b]) +
+                       K * (1.0 - K * eta * etaBar * A);
       twoMuBeta = 2.0 * mu * beta;
     }
     henckyTangent<Dim>(r.n, r.epsTrial, r.tau, dTau, twoMuBeta, J, D);

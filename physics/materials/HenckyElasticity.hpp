@@ -69,13 +69,20 @@ constexpr int kHenckyInternal = 6;  // the history slot after b_e
 
 // The initial history: b_e = I, internal variable 0.
 KOKKOS_INLINE_FUNCTION void henckyInitialHistory(double* h) {
-  h[0] = 1; h[1] = 1; h[2] = 0; h[3] = 1; h[4] = 0; h[5] = 0; h[6] = 0;
+  h[0] = 1;
+  h[1] = 1;
+  h[2] = 0;
+  h[3] = 1;
+  h[4] = 0;
+  h[5] = 0;
+  h[6] = 0;
 }
 
 // The trial state of the step f = I + G from b_e^n (in h): the principal directions n (columns)
 // of b_e^trial = f b_e^n f^T and its log strains eps_A = ln lambda_A.
 template <int Dim>
-KOKKOS_FORCEINLINE_FUNCTION void henckyTrial(const double (&G)[Dim][Dim], const double* h, double (&n)[3][3], double (&eps)[3]) {
+KOKKOS_FORCEINLINE_FUNCTION void henckyTrial(const double (&G)[Dim][Dim], const double* h, double (&n)[3][3],
+                                             double (&eps)[3]) {
   using SL3 = StressLayout<3>;
   double f[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (int i = 0; i < Dim; ++i)
@@ -99,8 +106,8 @@ KOKKOS_FORCEINLINE_FUNCTION void henckyTrial(const double (&G)[Dim][Dim], const 
 // After the return: b_e^{n+1} = sum_A exp(2 eps_A) n_A (x) n_A into h, and the Cauchy stress
 // sigma = tau / J (tau = sum_A tau_A n_A (x) n_A) into s, in the stored layout.
 template <int Dim>
-KOKKOS_FORCEINLINE_FUNCTION void henckyStore(const double (&n)[3][3], const double (&tau)[3], const double (&eps)[3], double J,
-                                        double* h, double* s) {
+KOKKOS_FORCEINLINE_FUNCTION void henckyStore(const double (&n)[3][3], const double (&tau)[3], const double (&eps)[3],
+                                             double J, double* h, double* s) {
   using SL3 = StressLayout<3>;
   const double invJ = 1.0 / J;
   for (int i = 0; i < 3; ++i)
@@ -148,9 +155,10 @@ KOKKOS_INLINE_FUNCTION double henckyEnergyDensity(double lambda, double mu, cons
 //            (smooth as b_A -> b_B: x coth x -> 1). J2 and Drucker-Prager have one ratio for
 //            every pair (tau_A - tau_B = twoMuBeta x); Mohr-Coulomb gives each pair its own.
 template <int Dim>
-KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const double (&epsTrial)[3], const double (&tau)[3],
-                                          const double (&a)[3][3], const double (&ratio)[3][3], double J,
-                                          double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
+KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const double (&epsTrial)[3],
+                                               const double (&tau)[3], const double (&a)[3][3],
+                                               const double (&ratio)[3][3], double J,
+                                               double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
   using SL = StressLayout<Dim>;
   double normal[3][3], shear[3][3];  // principal frame: c_AABB, and the factors of d_AB (A != B)
   for (int p = 0; p < 3; ++p)
@@ -189,11 +197,12 @@ KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const do
 
 // The same with one ratio for every pair: tau_A - tau_B = twoMuBeta (eps_A^trial - eps_B^trial).
 template <int Dim>
-KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const double (&epsTrial)[3], const double (&tau)[3],
-                                          const double (&a)[3][3], double twoMuBeta, double J,
-                                          double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
-  const double ratio[3][3] = {{twoMuBeta, twoMuBeta, twoMuBeta}, {twoMuBeta, twoMuBeta, twoMuBeta},
-                              {twoMuBeta, twoMuBeta, twoMuBeta}};
+KOKKOS_FORCEINLINE_FUNCTION void henckyTangent(const double (&n)[3][3], const double (&epsTrial)[3],
+                                               const double (&tau)[3], const double (&a)[3][3], double twoMuBeta,
+                                               double J,
+                                               double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
+  const double ratio[3][3] = {
+      {twoMuBeta, twoMuBeta, twoMuBeta}, {twoMuBeta, twoMuBeta, twoMuBeta}, {twoMuBeta, twoMuBeta, twoMuBeta}};
   henckyTangent<Dim>(n, epsTrial, tau, a, ratio, J, D);
 }
 

@@ -23,7 +23,10 @@ struct LinearElasticModel {
       const double gxx = G[0][0], gyy = G[1][1], gamma = G[0][1] + G[1][0];  // gamma: engineering shear
       const double sxx = in(0) + a * gxx + b * gyy, syy = in(1) + b * gxx + a * gyy;
       const double sxy = in(2) + c * gamma, szz = in(3) + czz * (gxx + gyy);
-      out(0, sxx); out(1, syy); out(2, sxy); out(3, szz);
+      out(0, sxx);
+      out(1, syy);
+      out(2, sxy);
+      out(3, szz);
     } else {
       const double exx = G[0][0], eyy = G[1][1], ezz = G[2][2];
       const double sxx = in(0) + a * exx + b * (eyy + ezz);
@@ -32,7 +35,12 @@ struct LinearElasticModel {
       const double sxy = in(2) + c * (G[0][1] + G[1][0]);
       const double syz = in(4) + c * (G[1][2] + G[2][1]);
       const double sxz = in(5) + c * (G[0][2] + G[2][0]);
-      out(0, sxx); out(1, syy); out(2, sxy); out(3, szz); out(4, syz); out(5, sxz);
+      out(0, sxx);
+      out(1, syy);
+      out(2, sxy);
+      out(3, szz);
+      out(4, syz);
+      out(5, sxz);
     }
   }
 
@@ -62,7 +70,8 @@ struct LinearElasticModel {
       // lambda = b, mu = c: eps_ii = (s_ii - lambda / (3 lambda + 2 mu) tr s) / (2 mu).
       const double trace = s[0] + s[1] + s[3];
       const double k = b / (3 * b + 2 * c);
-      const double exx = (s[0] - k * trace) / (2 * c), eyy = (s[1] - k * trace) / (2 * c), ezz = (s[3] - k * trace) / (2 * c);
+      const double exx = (s[0] - k * trace) / (2 * c), eyy = (s[1] - k * trace) / (2 * c),
+                   ezz = (s[3] - k * trace) / (2 * c);
       return 0.5 * (s[0] * exx + s[1] * eyy + s[3] * ezz + (s[2] * s[2] + s[4] * s[4] + s[5] * s[5]) / c);
     }
   }
@@ -81,7 +90,10 @@ KOKKOS_INLINE_FUNCTION void isotropicTangent(double a, double b, double c,
   for (int i = 0; i < Dim; ++i)
     for (int j = 0; j < Dim; ++j) D[normals[i]][normals[j]] = i == j ? a : b;
   D[2][2] = c;
-  if constexpr (Dim == 3) { D[4][4] = c; D[5][5] = c; }
+  if constexpr (Dim == 3) {
+    D[4][4] = c;
+    D[5][5] = c;
+  }
 }
 
 }  // namespace impm

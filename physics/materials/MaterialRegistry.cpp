@@ -35,17 +35,21 @@ const char* const kConeNames[] = {"Plane Strain", "Outer", "Inner"};
 void addFrictionParameters(ParameterList& pl, bool withCone) {
   const std::string both = "Drucker-Prager, Mohr-Coulomb: ";
   schema::number(pl, "Cohesion", 0.0, both + "cohesion c_0 (Pa, >= 0)");
-  schema::number(pl, "Friction Angle", 0.0,
-                 both + "friction angle phi (degrees, in (0, 90); Mohr-Coulomb also 0: Tresca, with c the undrained strength)");
-  schema::number(pl, "Dilatancy Angle", 0.0, both + "dilatancy angle psi (degrees, in [0, Friction Angle]; = phi: associated flow)");
+  schema::number(
+      pl, "Friction Angle", 0.0,
+      both + "friction angle phi (degrees, in (0, 90); Mohr-Coulomb also 0: Tresca, with c the undrained strength)");
+  schema::number(pl, "Dilatancy Angle", 0.0,
+                 both + "dilatancy angle psi (degrees, in [0, Friction Angle]; = phi: associated flow)");
   if (withCone)
-    schema::choice(pl, "Cone", kConeNames[0], {kConeNames[0], kConeNames[1], kConeNames[2]},
-                   "Drucker-Prager: the cone's match to Mohr-Coulomb. Plane Strain: the Mohr-Coulomb collapse load in plane "
-                   "strain (associated flow); Outer: the compressive meridian (triaxial compression); Inner: the extensive "
-                   "meridian (triaxial extension)");
+    schema::choice(
+        pl, "Cone", kConeNames[0], {kConeNames[0], kConeNames[1], kConeNames[2]},
+        "Drucker-Prager: the cone's match to Mohr-Coulomb. Plane Strain: the Mohr-Coulomb collapse load in plane "
+        "strain (associated flow); Outer: the compressive meridian (triaxial compression); Inner: the extensive "
+        "meridian (triaxial extension)");
   schema::number(pl, "Cohesion Modulus", 0.0,
-                 both + "dc/dalpha, the cohesion's linear change with the equivalent plastic strain (Pa; negative: "
-                        "softening, down to Residual Cohesion)");
+                 both +
+                     "dc/dalpha, the cohesion's linear change with the equivalent plastic strain (Pa; negative: "
+                     "softening, down to Residual Cohesion)");
   schema::number(pl, "Residual Cohesion", 0.0, both + "the cohesion softening stops at (Pa, in [0, Cohesion])");
 }
 
@@ -77,7 +81,8 @@ void readFriction(const ParameterList& m, const std::string& key, MaterialParame
     failKey(key, "Dilatancy Angle", "must lie in [0, Friction Angle = " + formatNumber(p.frictionAngle) + "] degrees",
             p.dilatancyAngle);
   if (!(p.residualCohesion >= 0 && p.residualCohesion <= p.cohesion))
-    failKey(key, "Residual Cohesion", "must lie in [0, Cohesion = " + formatNumber(p.cohesion) + "]", p.residualCohesion);
+    failKey(key, "Residual Cohesion", "must lie in [0, Cohesion = " + formatNumber(p.cohesion) + "]",
+            p.residualCohesion);
   if (!std::isfinite(p.cohesionModulus)) failKey(key, "Cohesion Modulus", "must be a number", p.cohesionModulus);
 }
 
@@ -85,8 +90,8 @@ void readFriction(const ParameterList& m, const std::string& key, MaterialParame
 // the elastic trial state relaxes).
 void checkSoftening(const std::string& key, double modulus, double limit) {
   if (!(modulus > limit))
-    failKey(key, "Cohesion Modulus", "softens faster than the returns allow (must exceed " + formatNumber(limit) + " Pa)",
-            modulus);
+    failKey(key, "Cohesion Modulus",
+            "softens faster than the returns allow (must exceed " + formatNumber(limit) + " Pa)", modulus);
 }
 
 void readDruckerPrager(const ParameterList& m, const std::string& key, MaterialParameters& p) {
@@ -110,7 +115,8 @@ void readMohrCoulomb(const ParameterList& m, const std::string& key, MaterialPar
   // The main plane's return divides by 4 (lambda sin phi sin psi + mu (1 + sin phi sin psi)) +
   // 4 cos^2(phi) H, the apex's (psi > 0) by K + H cos(phi) cot(phi) / sin(psi).
   const double degree = 3.141592653589793 / 180.0, mu = p.E / (2 * (1 + p.nu)), K = p.E / (3 * (1 - 2 * p.nu));
-  const double lambda = K - 2 * mu / 3, sp = std::sin(p.frictionAngle * degree), cp = std::cos(p.frictionAngle * degree);
+  const double lambda = K - 2 * mu / 3, sp = std::sin(p.frictionAngle * degree),
+               cp = std::cos(p.frictionAngle * degree);
   const double sd = std::sin(p.dilatancyAngle * degree);
   const double planeLimit = -(lambda * sp * sd + mu * (1 + sp * sd)) / (cp * cp);
   const double apexLimit = sd > 0 ? -K * sd * sp / (cp * cp) : planeLimit;
@@ -127,29 +133,53 @@ void readMohrCoulomb(const ParameterList& m, const std::string& key, MaterialPar
 
 const std::vector<MaterialModelInfo>& materialModels() {
   static const std::vector<MaterialModelInfo> models = {
-      {MaterialModel::LinearElastic, "Linear Elastic", "small strain (the seed problems)", false, 0, noParameters, {},
+      {MaterialModel::LinearElastic,
+       "Linear Elastic",
+       "small strain (the seed problems)",
+       false,
+       0,
+       noParameters,
+       {},
        readNothing},
-      {MaterialModel::NeoHookean, "Neo-Hookean",
+      {MaterialModel::NeoHookean,
+       "Neo-Hookean",
        "compressible hyperelastic at finite strain, W = mu/2 (tr b - 3) - mu ln J + lambda/2 (ln J)^2 with the Lame "
        "constants of Young Modulus and Poisson Ratio",
-       true, 0, noParameters, {}, readNothing},
-      {MaterialModel::J2Plasticity, "J2 Plasticity",
+       true,
+       0,
+       noParameters,
+       {},
+       readNothing},
+      {MaterialModel::J2Plasticity,
+       "J2 Plasticity",
        "von Mises elastoplasticity at finite strain (multiplicative split, Hencky elasticity, radial return, linear "
        "isotropic hardening: Yield Stress, Hardening Modulus)",
-       true, J2PlasticityModel::historyCount, addJ2Parameters, {"Yield Stress", "Hardening Modulus"}, readJ2},
-      {MaterialModel::DruckerPrager, "Drucker-Prager",
-       "pressure-dependent elastoplasticity for soils at finite strain (the J2 model's Hencky elasticity; a cone matched "
+       true,
+       J2PlasticityModel::historyCount,
+       addJ2Parameters,
+       {"Yield Stress", "Hardening Modulus"},
+       readJ2},
+      {MaterialModel::DruckerPrager,
+       "Drucker-Prager",
+       "pressure-dependent elastoplasticity for soils at finite strain (the J2 model's Hencky elasticity; a cone "
+       "matched "
        "to Mohr-Coulomb, non-associated flow through the dilatancy angle, cone and apex returns, linear cohesion "
        "hardening or softening: Cohesion, Friction Angle, Dilatancy Angle, Cone, Cohesion Modulus, Residual Cohesion)",
-       true, DruckerPragerModel::historyCount, addDruckerPragerParameters,
+       true,
+       DruckerPragerModel::historyCount,
+       addDruckerPragerParameters,
        {"Cohesion", "Friction Angle", "Dilatancy Angle", "Cone", "Cohesion Modulus", "Residual Cohesion"},
        readDruckerPrager},
-      {MaterialModel::MohrCoulomb, "Mohr-Coulomb",
-       "Mohr-Coulomb elastoplasticity for soils at finite strain (the J2 model's Hencky elasticity; the six planes with "
+      {MaterialModel::MohrCoulomb,
+       "Mohr-Coulomb",
+       "Mohr-Coulomb elastoplasticity for soils at finite strain (the J2 model's Hencky elasticity; the six planes "
+       "with "
        "their edge and apex returns, non-associated flow through the dilatancy angle, an optional tension cutoff, "
        "linear cohesion hardening or softening: Cohesion, Friction Angle, Dilatancy Angle, Cohesion Modulus, Residual "
        "Cohesion, Tension Cutoff)",
-       true, MohrCoulombModel::historyCount, addMohrCoulombParameters,
+       true,
+       MohrCoulombModel::historyCount,
+       addMohrCoulombParameters,
        {"Cohesion", "Friction Angle", "Dilatancy Angle", "Cohesion Modulus", "Residual Cohesion", "Tension Cutoff"},
        readMohrCoulomb},
   };
@@ -190,11 +220,13 @@ Teuchos::RCP<const ParameterList> materialSchema() {
 }
 
 bool Materials::anyFiniteStrain() const {
-  return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return materialModel(p.model).finiteStrain; });
+  return std::any_of(params_.begin(), params_.end(),
+                     [](const MaterialParameters& p) { return materialModel(p.model).finiteStrain; });
 }
 
 bool Materials::anyHistory() const {
-  return std::any_of(params_.begin(), params_.end(), [](const MaterialParameters& p) { return materialModel(p.model).historyWidth > 0; });
+  return std::any_of(params_.begin(), params_.end(),
+                     [](const MaterialParameters& p) { return materialModel(p.model).historyWidth > 0; });
 }
 
 std::string Materials::modelName(MaterialModel m) { return materialModel(m).name; }
@@ -233,9 +265,11 @@ MaterialParameters readMaterial(const ParameterList& m, const std::string& key,
     if (&other == model) continue;
     for (const auto& k : other.parameterKeys)
       if (std::find(model->parameterKeys.begin(), model->parameterKeys.end(), k) == model->parameterKeys.end() &&
-          m.isParameter(k) && (m.isType<double>(k) ? m.get<double>(k) != 0.0
-                                                   : m.get<std::string>(k) != materialSchema()->get<std::string>(k)))
-        throw DeckError("'" + key + "/" + k + "' is a " + other.name + " parameter; 'Model' = " + name + " does not use it");
+          m.isParameter(k) &&
+          (m.isType<double>(k) ? m.get<double>(k) != 0.0
+                               : m.get<std::string>(k) != materialSchema()->get<std::string>(k)))
+        throw DeckError("'" + key + "/" + k + "' is a " + other.name + " parameter; 'Model' = " + name +
+                        " does not use it");
   }
   return p;
 }

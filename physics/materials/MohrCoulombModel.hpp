@@ -37,23 +37,31 @@ namespace impm {
 struct MohrCoulombModel {
   double lambda, mu;
   double sinPhi, cosPhi, sinPsi;
-  double cohesion, hardening, residual;  // c_0, H (negative: softening) and c_r
-  double tension;                        // the cutoff t (> 0), or 0: none
+  double cohesion, hardening, residual;   // c_0, H (negative: softening) and c_r
+  double tension;                         // the cutoff t (> 0), or 0: none
   static constexpr int historyCount = 7;  // b_e (6, stored layout) and alpha
 
   KOKKOS_INLINE_FUNCTION static void initialHistory(double* h) { henckyInitialHistory(h); }
 
   // Surfaces of the sorted frame: the planes (i, j) = (0, 2) main, (1, 2), (0, 1), and the three
   // with i > j; then the cutoffs of s_0, s_1, s_2.
-  enum : int { Main = 0, ExtensionEdge = 1, CompressionEdge = 2, Cutoff0 = 6, Cutoff1 = 7, Cutoff2 = 8, SurfaceCount = 9 };
+  enum : int {
+    Main = 0,
+    ExtensionEdge = 1,
+    CompressionEdge = 2,
+    Cutoff0 = 6,
+    Cutoff1 = 7,
+    Cutoff2 = 8,
+    SurfaceCount = 9
+  };
   enum : int { Elastic = 0, Planes = 1, Apex = 2 };
 
   struct Return {
     double n[3][3], epsTrial[3], eps[3], tau[3];
-    int order[3];            // order[k]: the principal axis of the k-th largest trial stress
-    int active[3], count;    // the active surfaces (Planes)
+    int order[3];          // order[k]: the principal axis of the k-th largest trial stress
+    int active[3], count;  // the active surfaces (Planes)
     double phiTrial[SurfaceCount], scale;
-    double hEffective;       // the slope of c(alpha) at the return
+    double hEffective;  // the slope of c(alpha) at the return
     int regime;
   };
 
@@ -251,9 +259,16 @@ KOKKOS_INLINE_FUNCTION void MohrCoulombModel::returnMap(const double (&G)[Dim][D
   // hold, and the cutoff, which leaves c alone, is taken), the first admissible one wins; else the
   // least violating one.
   constexpr int kCandidates = 10;
-  const int sets[kCandidates][3] = {{Main},          {Main, ExtensionEdge}, {Main, CompressionEdge},
-                                    {Cutoff0},       {Cutoff0, Main},       {Cutoff0, Main, CompressionEdge},
-                                    {Cutoff0, Cutoff1}, {Cutoff0, Cutoff1, Main}, {Cutoff0, Cutoff1, Cutoff2}, {-1}};
+  const int sets[kCandidates][3] = {{Main},
+                                    {Main, ExtensionEdge},
+                                    {Main, CompressionEdge},
+                                    {Cutoff0},
+                                    {Cutoff0, Main},
+                                    {Cutoff0, Main, CompressionEdge},
+                                    {Cutoff0, Cutoff1},
+                                    {Cutoff0, Cutoff1, Main},
+                                    {Cutoff0, Cutoff1, Cutoff2},
+                                    {-1}};
   const int sizes[kCandidates] = {1, 2, 2, 1, 2, 3, 2, 3, 3, 1};
   const double tolerance = 1e-10 * r.scale;
   double best[3] = {sTrial[0], sTrial[1], sTrial[2]}, bestViolation = 1e300, bestAlpha = 0.0, bestH = H;
@@ -318,9 +333,14 @@ KOKKOS_FUNCTION void MohrCoulombModel::tangent(const double (&G)[Dim][Dim], doub
   const bool atApex = (holds(Main) && holds(ExtensionEdge) && holds(CompressionEdge)) ||
                       (holds(Cutoff0) && holds(Cutoff1) && holds(Cutoff2));
   if (r.regime == Elastic && !atApex) {
-    const int sets[8][3] = {{Main},           {Main, ExtensionEdge},           {Main, CompressionEdge},
-                            {Cutoff0},        {Cutoff0, Main},                 {Cutoff0, Main, CompressionEdge},
-                            {Cutoff0, Cutoff1}, {Cutoff0, Cutoff1, Main}};
+    const int sets[8][3] = {{Main},
+                            {Main, ExtensionEdge},
+                            {Main, CompressionEdge},
+                            {Cutoff0},
+                            {Cutoff0, Main},
+                            {Cutoff0, Main, CompressionEdge},
+                            {Cutoff0, Cutoff1},
+                            {Cutoff0, Cutoff1, Main}};
     const int sizes[8] = {1, 2, 2, 1, 2, 3, 2, 3};
     for (int q = 0; q < 8; ++q) {
       bool all = sizes[q] > r.count;
@@ -336,10 +356,9 @@ KOKKOS_FUNCTION void MohrCoulombModel::tangent(const double (&G)[Dim][Dim], doub
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) sorted[a][b] = lambda + (a == b ? 2.0 * mu : 0.0);
   if (r.regime == Apex) {
-    const double volumetric =
-        sinPsi > 0.0 && r.hEffective != 0.0
-            ? K * (1.0 - K / (K + r.hEffective * (cosPhi / sinPsi) * (cosPhi / sinPhi)))
-            : 0.0;
+    const double volumetric = sinPsi > 0.0 && r.hEffective != 0.0
+                                  ? K * (1.0 - K / (K + r.hEffective * (cosPhi / sinPsi) * (cosPhi / sinPhi)))
+                                  : 0.0;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) sorted[a][b] = volumetric;
   } else if (r.regime == Planes) {

@@ -13,16 +13,16 @@
 
 namespace impm {
 
-using Teuchos::ParameterList;
-using Teuchos::RCP;
-using Teuchos::rcp;
+using build::kParticlePlacementDoc;
+using build::onGridLine;
+using build::timeFunctionKeys;
 using schema::choice;
 using schema::number;
 using schema::positive;
 using schema::positiveInt;
-using build::onGridLine;
-using build::kParticlePlacementDoc;
-using build::timeFunctionKeys;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
 
 const char* const build::kParticlePlacementDoc =
     "where the lattice fill puts the Particles Per Cell in a cell, per direction, all of equal volume (the cell's over "
@@ -54,11 +54,14 @@ RCP<const ParameterList> build::bodiesTemplate() {
   number(*pl, "Center Y", 0.5, "Ellipse: y of the centre");
   number(*pl, "Radius X", 0.25, "Ellipse: semi-axis along x");
   number(*pl, "Radius Y", 0.25, "Ellipse: semi-axis along y");
-  number(*pl, "Inner Radius X", 0.0, "Ellipse: semi-axis along x of a centred hole (0: none; a ring with Inner Radius Y)");
-  number(*pl, "Inner Radius Y", 0.0, "Ellipse: semi-axis along y of a centred hole (0: none; a ring with Inner Radius X)");
+  number(*pl, "Inner Radius X", 0.0,
+         "Ellipse: semi-axis along x of a centred hole (0: none; a ring with Inner Radius Y)");
+  number(*pl, "Inner Radius Y", 0.0,
+         "Ellipse: semi-axis along y of a centred hole (0: none; a ring with Inner Radius X)");
   pl->set("Vertices", "", "Polygon: 'x1, y1; x2, y2; x3, y3; ...' (either orientation, not self-crossing)");
-  pl->set("File", "", "Particles File: CSV rows x, y, volume (m^3, i.e. area x Thickness); a relative path is "
-                      "relative to the working directory");
+  pl->set("File", "",
+          "Particles File: CSV rows x, y, volume (m^3, i.e. area x Thickness); a relative path is "
+          "relative to the working directory");
   pl->set("Particles Per Cell X", 2, "particles per cell in x (lattice fill)");
   pl->set("Particles Per Cell Y", 2, "particles per cell in y (lattice fill)");
   pl->set("Particles Per Cell Z", 2, "particles per cell in z (lattice fill, 3D)");
@@ -81,10 +84,12 @@ RCP<const ParameterList> build::bodiesTemplate() {
          "material, sigma_xx = sigma_zz = K0 sigma_yy (plane stress: sigma_zz = 0); the elastoplastic models start "
          "with the elastic strain of that stress. Hold the body's sides (constraints or walls): the horizontal stress "
          "pushes on them. Not with Neo-Hookean (its stress is a function of F alone)");
-  number(*pl, "K0", 0.0, "Initial Stress = Geostatic: the ratio of horizontal to vertical stress (> 0; elastic, "
-                         "laterally confined: nu / (1 - nu); normally consolidated soil: 1 - sin(phi))");
-  number(*pl, "Surface Y", 0.0, "Initial Stress = Geostatic: the elevation of the free surface, at or above the body's "
-                                "highest particle (m)");
+  number(*pl, "K0", 0.0,
+         "Initial Stress = Geostatic: the ratio of horizontal to vertical stress (> 0; elastic, "
+         "laterally confined: nu / (1 - nu); normally consolidated soil: 1 - sin(phi))");
+  number(*pl, "Surface Y", 0.0,
+         "Initial Stress = Geostatic: the elevation of the free surface, at or above the body's "
+         "highest particle (m)");
   pl->set("Rigid", false,
           "true: the body moves rigidly with Velocity X/Y/Z times its Time Function (a platen, an indenter, a wall at "
           "any angle) and meets the other bodies through 'Contact/Type' = Multi Field, as if infinitely heavy: they "
@@ -118,10 +123,12 @@ static void readRotation(const std::string& key, const ParameterList& b, int dim
       throw DeckError("'" + key + "/" + omegaKeys[d] + "' = " + formatNumber(body.angularVelocity[d]) +
                       " needs 'Grid/Dimension' = 3 (in 2D a body turns about z: 'Angular Velocity')");
   if (dim == 2 && body.rotationCenter[2] != 0.0)
-    throw DeckError("'" + key + "/Rotation Center Z' = " + formatNumber(body.rotationCenter[2]) + " needs 'Grid/Dimension' = 3");
+    throw DeckError("'" + key + "/Rotation Center Z' = " + formatNumber(body.rotationCenter[2]) +
+                    " needs 'Grid/Dimension' = 3");
   for (int d = 0; d < 3 && body.rigid; ++d)
     if (body.angularVelocity[d] != 0.0)
-      throw DeckError("'" + key + "/" + omegaKeys[d] + "' sets a deformable body's initial rotation; a Rigid body moves "
+      throw DeckError("'" + key + "/" + omegaKeys[d] +
+                      "' sets a deformable body's initial rotation; a Rigid body moves "
                       "with Velocity X/Y/Z times its Time Function only");
 }
 
@@ -142,10 +149,13 @@ void Simulation::buildBodies() {
                     std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
                     (grid_.dim == 3 ? " x " + std::to_string(grid_.nz) : std::string()) + " cells");
   if (shape.quadraticElements && grid_.dim == 3 && grid_.nz % 2)
-    throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " + std::to_string(grid_.nz));
+    throw DeckError("'Method/Shape Function' = FE Q9 (Hex27 in 3D) needs an even 'Grid/Cells Z', got " +
+                    std::to_string(grid_.nz));
   if (shape.quadraticElements && (grid_.nx % 2 || grid_.ny % 2))
-    throw DeckError("'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), got " +
-                    std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
+    throw DeckError(
+        "'Method/Shape Function' = FE Q9 needs even 'Grid/Cells X' and 'Grid/Cells Y' (an element is 2 x 2 cells), "
+        "got " +
+        std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny));
   const ParameterList& bs = deck_.sublist("Bodies");
   if (bs.numParams() == 0) throw DeckError("'Bodies' is empty: add at least one body");
   for (auto it = bs.begin(); it != bs.end(); ++it) bodies_.push_back(readBody(bs.name(it), bs.sublist(bs.name(it))));
@@ -162,9 +172,11 @@ void Simulation::readGeostaticStress(const std::string& key, const ParameterList
         throw DeckError("'" + key + "/" + k + "' belongs to 'Initial Stress' = Geostatic; the body's is None");
     return;
   }
-  if (!(body.k0 > 0)) throw DeckError("'" + key + "/K0' must be positive for 'Initial Stress' = Geostatic, got " + formatNumber(body.k0));
+  if (!(body.k0 > 0))
+    throw DeckError("'" + key + "/K0' must be positive for 'Initial Stress' = Geostatic, got " + formatNumber(body.k0));
   if (materials_.parameters(body.material).model == MaterialModel::NeoHookean)
-    throw DeckError("'" + key + "/Initial Stress' = Geostatic needs a material whose stress can start non-zero at F = I; "
+    throw DeckError("'" + key +
+                    "/Initial Stress' = Geostatic needs a material whose stress can start non-zero at F = I; "
                     "Neo-Hookean's is a function of F alone");
   geostaticGravity(key);  // refuses a deck without gravity along -y
 }
@@ -182,7 +194,8 @@ double Simulation::geostaticGravity(const std::string& key) const {
     gy += l.get<double>("Acceleration Y");
   }
   if (!(gy < 0))
-    throw DeckError("'" + key + "/Initial Stress' = Geostatic needs gravity: a Body Force load with Acceleration Y < 0");
+    throw DeckError("'" + key +
+                    "/Initial Stress' = Geostatic needs gravity: a Body Force load with Acceleration Y < 0");
   return -gy;
 }
 
@@ -209,7 +222,8 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
   body.velocityZ = b.get<double>("Velocity Z");
   const std::string shape = b.get<std::string>("Shape");
   if (grid_.dim == 3 && (shape == "Ellipse" || shape == "Polygon"))
-    throw DeckError("'" + key + "/Shape' = " + shape + " is a 2D shape; with 'Grid/Dimension' = 3 a body is a Rectangle (box) or a Particles File");
+    throw DeckError("'" + key + "/Shape' = " + shape +
+                    " is a 2D shape; with 'Grid/Dimension' = 3 a body is a Rectangle (box) or a Particles File");
   if (grid_.dim == 2 && body.velocityZ != 0.0)
     throw DeckError("'" + key + "/Velocity Z' = " + formatNumber(body.velocityZ) + " needs 'Grid/Dimension' = 3");
   readRigidMotion(key, b, body);
@@ -219,8 +233,9 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
     // Gauss pairs in sub-cells: an even count per direction, and only where a lattice is filled.
     if (shape == "Particles File" || placement_ != Placement::Lattice)
       throw DeckError("'" + key + "/Particle Placement' = Gauss places a lattice fill's particles; " +
-                      (shape == "Particles File" ? std::string("a Particles File body takes its particles as given")
-                                                 : "'Method/Shape Function' = " + shape_ + " places its own Gauss points"));
+                      (shape == "Particles File"
+                           ? std::string("a Particles File body takes its particles as given")
+                           : "'Method/Shape Function' = " + shape_ + " places its own Gauss points"));
     for (const char* axis : {"X", "Y", "Z"}) {
       if (axis[0] == 'Z' && grid_.dim == 2) continue;
       const int n = b.get<int>(std::string("Particles Per Cell ") + axis);
@@ -250,7 +265,8 @@ BodySpec Simulation::readBody(const std::string& name, const ParameterList& b) {
       }
     } else {
       body.particlesFile = b.get<std::string>("File");
-      if (body.particlesFile.empty()) throw DeckError("'" + key + "/File' must name a particles file for Shape = Particles File");
+      if (body.particlesFile.empty())
+        throw DeckError("'" + key + "/File' must name a particles file for Shape = Particles File");
       try {
         // Checked here, before anything runs.
         fileParticles = readParticlesFile(body.particlesFile, grid_.dim, thickness_).size();
@@ -274,7 +290,8 @@ void Simulation::readRigidMotion(const std::string& key, const ParameterList& b,
   const double normal[3] = {b.get<double>("Normal X"), b.get<double>("Normal Y"), b.get<double>("Normal Z")};
   const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
   if (length > 0.0 && !body.rigid)
-    throw DeckError("'" + key + "/Normal X/Y/Z' give a rigid body's surface normal; set '" + key + "/Rigid' = true or remove them");
+    throw DeckError("'" + key + "/Normal X/Y/Z' give a rigid body's surface normal; set '" + key +
+                    "/Rigid' = true or remove them");
   if (!std::isfinite(length)) throw DeckError("'" + key + "/Normal X/Y/Z' must be finite");
   if (grid_.dim == 2 && normal[2] != 0.0)
     throw DeckError("'" + key + "/Normal Z' = " + formatNumber(normal[2]) + " needs 'Grid/Dimension' = 3");
@@ -296,31 +313,48 @@ void Simulation::readRigidMotion(const std::string& key, const ParameterList& b,
 void Simulation::readRectangle(const std::string& key, const ParameterList& b, BodySpec& body) const {
   const double tolx = 1e-9 * grid_.hx, toly = 1e-9 * grid_.hy;
   RectangularBody& r = body.rect;
-  r.xMin = b.get<double>("X Min"); r.xMax = b.get<double>("X Max");
-  r.yMin = b.get<double>("Y Min"); r.yMax = b.get<double>("Y Max");
+  r.xMin = b.get<double>("X Min");
+  r.xMax = b.get<double>("X Max");
+  r.yMin = b.get<double>("Y Min");
+  r.yMax = b.get<double>("Y Max");
   if (!(r.xMax > r.xMin)) throw DeckError("'" + key + "/X Max' must exceed '" + key + "/X Min'");
   if (!(r.yMax > r.yMin)) throw DeckError("'" + key + "/Y Max' must exceed '" + key + "/Y Min'");
-  if (r.xMin < grid_.x0 - tolx) throw DeckError("particles outside the grid: '" + key + "/X Min' = " + formatNumber(r.xMin) + " is left of the grid origin " + formatNumber(grid_.x0));
-  if (r.xMax > grid_.xMax() + tolx) throw DeckError("particles outside the grid: '" + key + "/X Max' = " + formatNumber(r.xMax) + " is beyond the grid's right edge " + formatNumber(grid_.xMax()));
-  if (r.yMin < grid_.y0 - toly) throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + formatNumber(r.yMin) + " is below the grid origin " + formatNumber(grid_.y0));
-  if (r.yMax > grid_.yMax() + toly) throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + formatNumber(r.yMax) + " is above the grid's top edge " + formatNumber(grid_.yMax()));
+  if (r.xMin < grid_.x0 - tolx)
+    throw DeckError("particles outside the grid: '" + key + "/X Min' = " + formatNumber(r.xMin) +
+                    " is left of the grid origin " + formatNumber(grid_.x0));
+  if (r.xMax > grid_.xMax() + tolx)
+    throw DeckError("particles outside the grid: '" + key + "/X Max' = " + formatNumber(r.xMax) +
+                    " is beyond the grid's right edge " + formatNumber(grid_.xMax()));
+  if (r.yMin < grid_.y0 - toly)
+    throw DeckError("particles outside the grid: '" + key + "/Y Min' = " + formatNumber(r.yMin) +
+                    " is below the grid origin " + formatNumber(grid_.y0));
+  if (r.yMax > grid_.yMax() + toly)
+    throw DeckError("particles outside the grid: '" + key + "/Y Max' = " + formatNumber(r.yMax) +
+                    " is above the grid's top edge " + formatNumber(grid_.yMax()));
   std::vector<std::tuple<const char*, double, double, double>> edges = {
       std::make_tuple("X Min", r.xMin, grid_.x0, grid_.hx), std::make_tuple("X Max", r.xMax, grid_.x0, grid_.hx),
       std::make_tuple("Y Min", r.yMin, grid_.y0, grid_.hy), std::make_tuple("Y Max", r.yMax, grid_.y0, grid_.hy)};
   if (grid_.dim == 3) {
-    r.zMin = b.get<double>("Z Min"); r.zMax = b.get<double>("Z Max");
+    r.zMin = b.get<double>("Z Min");
+    r.zMax = b.get<double>("Z Max");
     const double tolz = 1e-9 * grid_.hz;
     if (!(r.zMax > r.zMin)) throw DeckError("'" + key + "/Z Max' must exceed '" + key + "/Z Min'");
-    if (r.zMin < grid_.z0 - tolz) throw DeckError("particles outside the grid: '" + key + "/Z Min' = " + formatNumber(r.zMin) + " is behind the grid origin " + formatNumber(grid_.z0));
-    if (r.zMax > grid_.zMax() + tolz) throw DeckError("particles outside the grid: '" + key + "/Z Max' = " + formatNumber(r.zMax) + " is beyond the grid's front face " + formatNumber(grid_.zMax()));
+    if (r.zMin < grid_.z0 - tolz)
+      throw DeckError("particles outside the grid: '" + key + "/Z Min' = " + formatNumber(r.zMin) +
+                      " is behind the grid origin " + formatNumber(grid_.z0));
+    if (r.zMax > grid_.zMax() + tolz)
+      throw DeckError("particles outside the grid: '" + key + "/Z Max' = " + formatNumber(r.zMax) +
+                      " is beyond the grid's front face " + formatNumber(grid_.zMax()));
     edges.push_back(std::make_tuple("Z Min", r.zMin, grid_.z0, grid_.hz));
     edges.push_back(std::make_tuple("Z Max", r.zMax, grid_.z0, grid_.hz));
   }
   for (auto [k, v, o, h] : edges) {
-    if (!onGridLine(v, o, h)) throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on a grid line");
+    if (!onGridLine(v, o, h))
+      throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on a grid line");
     // FE Q9: elements of 2 x 2 cells, the body made of whole elements.
     if (placement_ == Placement::GaussQ9 && std::lround((v - o) / h) % 2)
-      throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) + " is not on an element edge of FE Q9 (an even grid line)");
+      throw DeckError("'" + key + "/" + k + "' = " + formatNumber(v) +
+                      " is not on an element edge of FE Q9 (an even grid line)");
   }
   body.rectangle = true;
   body.shape = makeRectangle(r.xMin, r.xMax, r.yMin, r.yMax);
@@ -333,8 +367,9 @@ void Simulation::checkInsideGrid(const std::string& key, const BodySpec& body) c
     double xlo, xhi, ylo, yhi;
     body.shape->boundingBox(xlo, xhi, ylo, yhi);
     if (xlo < grid_.x0 - tolx || xhi > grid_.xMax() + tolx || ylo < grid_.y0 - toly || yhi > grid_.yMax() + toly)
-      throw DeckError("particles outside the grid: '" + key + "' (" + body.shape->describe() + ") extends beyond the grid [" +
-                      formatNumber(grid_.x0) + ", " + formatNumber(grid_.xMax()) + "] x [" + formatNumber(grid_.y0) + ", " + formatNumber(grid_.yMax()) + "]");
+      throw DeckError("particles outside the grid: '" + key + "' (" + body.shape->describe() +
+                      ") extends beyond the grid [" + formatNumber(grid_.x0) + ", " + formatNumber(grid_.xMax()) +
+                      "] x [" + formatNumber(grid_.y0) + ", " + formatNumber(grid_.yMax()) + "]");
   }
 }
 
@@ -346,12 +381,15 @@ void Simulation::estimateBodySize(const BodySpec& body, size_t fileParticles) {
     particles = cells = (double)fileParticles;
   } else {
     cells = body.shape->area() / (grid_.hx * grid_.hy);
-    double perCell = placement_ == Placement::GaussQ4   ? 4.0
-                     : placement_ == Placement::GaussQ9 ? 9.0 / 4.0
-                                                        : (double)body.rect.particlesPerCellX * body.rect.particlesPerCellY;
+    double perCell = placement_ == Placement::GaussQ4 ? 4.0
+                     : placement_ == Placement::GaussQ9
+                         ? 9.0 / 4.0
+                         : (double)body.rect.particlesPerCellX * body.rect.particlesPerCellY;
     if (grid_.dim == 3) {
       cells *= body.rect.depth() / grid_.hz;
-      perCell *= placement_ == Placement::GaussQ4 ? 2.0 : placement_ == Placement::GaussQ9 ? 3.0 / 2.0 : body.rect.particlesPerCellZ;
+      perCell *= placement_ == Placement::GaussQ4   ? 2.0
+                 : placement_ == Placement::GaussQ9 ? 3.0 / 2.0
+                                                    : body.rect.particlesPerCellZ;
     }
     particles = cells * perCell;
   }

@@ -13,23 +13,25 @@
 
 namespace impm {
 
-using Teuchos::ParameterList;
-using Teuchos::RCP;
-using Teuchos::rcp;
+using build::kParticlePlacementDoc;
+using build::onGridLine;
+using build::timeFunctionKeys;
 using schema::choice;
 using schema::number;
 using schema::positive;
 using schema::positiveInt;
-using build::onGridLine;
-using build::kParticlePlacementDoc;
-using build::timeFunctionKeys;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
 
 // The time-function keys of a load or a prescribed motion (physics/TimeFunction.hpp).
 void build::timeFunctionKeys(ParameterList& pl, const std::string& def, const std::string& what) {
   choice(pl, "Time Function", def, {"Step", "Sine", "Constant", "Ramp", "Table"},
-         what + ". Step: H(t - Start Time); Sine: sin(omega t); Constant: 1; Ramp: min(max(t - Start Time, 0) / Ramp "
-         "Time, 1), for quasi-static loading; Table: linear between the (t, value) pairs of Table, the end values held "
-         "outside them");
+         what +
+             ". Step: H(t - Start Time); Sine: sin(omega t); Constant: 1; Ramp: min(max(t - Start Time, 0) / Ramp "
+             "Time, 1), for quasi-static loading; Table: linear between the (t, value) pairs of Table, the end values "
+             "held "
+             "outside them");
   number(pl, "Ramp Time", 0.0, "duration of the rise of a Ramp (s)");
   number(pl, "Angular Frequency", 0.0, "omega of the Sine time function (rad/s)");
   number(pl, "Start Time", 0.0, "time at which a Step comes on, or a Ramp starts rising (s)");
@@ -84,15 +86,17 @@ RCP<const ParameterList> build::wallsTemplate() {
 
 RCP<const ParameterList> build::loadsTemplate() {
   auto pl = rcp(new ParameterList("Loads"));
-  choice(*pl, "Type", "Face Traction", {"Face Traction", "Node Force", "Particle Force", "Body Force", "Manufactured Body Force"},
+  choice(*pl, "Type", "Face Traction",
+         {"Face Traction", "Node Force", "Particle Force", "Body Force", "Manufactured Body Force"},
          "uniform traction on a face of a rectangular body (consistent nodal forces), a force on the grid "
          "node at (X, Y), a force carried by the particle nearest (X, Y), a body force m_p g "
          "(Acceleration X/Y, e.g. gravity) on the particles of Body, or the body force m_p b(X_p, t) that makes "
          "the deck's manufactured solution exact (Exact Solution/Type = Axis-Aligned Manufactured Solution; no "
          "other key: the field is the exact solution's)");
   choice(*pl, "Face", "x+", {"x-", "x+", "y-", "y+", "z-", "z+"}, "face of the body (Face Traction; z-, z+ in 3D)");
-  pl->set("Body", "", "Face Traction: the body whose face it is (empty: the first body); Body Force: the "
-                      "body it acts on (empty: every body)");
+  pl->set("Body", "",
+          "Face Traction: the body whose face it is (empty: the first body); Body Force: the "
+          "body it acts on (empty: every body)");
   number(*pl, "Acceleration X", 0.0, "Body Force: acceleration, x (m/s^2)");
   number(*pl, "Acceleration Y", 0.0, "Body Force: acceleration, y (m/s^2)");
   number(*pl, "Acceleration Z", 0.0, "Body Force: acceleration, z (m/s^2; 3D)");
@@ -185,10 +189,17 @@ std::vector<ConstraintSpec> Simulation::buildConstraints() {
     s.where = c.get<std::string>("Where");
     s.face = c.get<std::string>("Face");
     const Point node = pointOf(c);
-    s.x = node[0]; s.y = node[1]; s.z = node[2];
-    s.xMin = c.get<double>("X Min"); s.xMax = c.get<double>("X Max");
-    s.yMin = c.get<double>("Y Min"); s.yMax = c.get<double>("Y Max");
-    if (grid_.dim == 3) { s.zMin = c.get<double>("Z Min"); s.zMax = c.get<double>("Z Max"); }
+    s.x = node[0];
+    s.y = node[1];
+    s.z = node[2];
+    s.xMin = c.get<double>("X Min");
+    s.xMax = c.get<double>("X Max");
+    s.yMin = c.get<double>("Y Min");
+    s.yMax = c.get<double>("Y Max");
+    if (grid_.dim == 3) {
+      s.zMin = c.get<double>("Z Min");
+      s.zMax = c.get<double>("Z Max");
+    }
     const std::string comp = c.get<std::string>("Components");
     const bool all = comp == "all";
     s.fixX = all || comp.find('x') != std::string::npos;
@@ -201,15 +212,16 @@ std::vector<ConstraintSpec> Simulation::buildConstraints() {
     if (s.where == "Node") checkGridNode(key, s.x, s.y, s.z);
     if (s.where == "Face") {
       const BodySpec& b = bodyNamed(key + "/Body", c.get<std::string>("Body"));
-      if (!b.rectangle) throw DeckError("'" + key + "': Where = Face needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
+      if (!b.rectangle)
+        throw DeckError("'" + key + "': Where = Face needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
       s.body = b.rect;
     }
     if (s.where == "Box") {
       if (!(s.xMax >= s.xMin && s.yMax >= s.yMin && s.zMax >= s.zMin))
         throw DeckError("'" + key + "': the box needs X Max >= X Min, Y Max >= Y Min (and Z Max >= Z Min)");
       if (boxNodes(grid_, s.xMin, s.xMax, s.yMin, s.yMax, s.zMin, s.zMax).empty())
-        throw DeckError("'" + key + "': the box [" + formatNumber(s.xMin) + ", " + formatNumber(s.xMax) + "] x [" + formatNumber(s.yMin) + ", " +
-                        formatNumber(s.yMax) + "] holds no grid node");
+        throw DeckError("'" + key + "': the box [" + formatNumber(s.xMin) + ", " + formatNumber(s.xMax) + "] x [" +
+                        formatNumber(s.yMin) + ", " + formatNumber(s.yMax) + "] holds no grid node");
     }
     readMotion(c, key, s);
     specs.push_back(s);
@@ -230,12 +242,18 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     s.type = l.get<std::string>("Type");
     s.face = l.get<std::string>("Face");
     const Point point = pointOf(l);
-    s.x = point[0]; s.y = point[1]; s.z = point[2];
-    s.forceX = l.get<double>("Force X"); s.forceY = l.get<double>("Force Y"); s.forceZ = l.get<double>("Force Z");
-    s.accelerationX = l.get<double>("Acceleration X"); s.accelerationY = l.get<double>("Acceleration Y");
+    s.x = point[0];
+    s.y = point[1];
+    s.z = point[2];
+    s.forceX = l.get<double>("Force X");
+    s.forceY = l.get<double>("Force Y");
+    s.forceZ = l.get<double>("Force Z");
+    s.accelerationX = l.get<double>("Acceleration X");
+    s.accelerationY = l.get<double>("Acceleration Y");
     s.accelerationZ = l.get<double>("Acceleration Z");
     if (grid_.dim == 2 && (s.forceZ != 0.0 || s.accelerationZ != 0.0))
-      throw DeckError("'" + key + "/" + (s.forceZ != 0.0 ? "Force Z" : "Acceleration Z") + "' is not zero: z components need 'Grid/Dimension' = 3");
+      throw DeckError("'" + key + "/" + (s.forceZ != 0.0 ? "Force Z" : "Acceleration Z") +
+                      "' is not zero: z components need 'Grid/Dimension' = 3");
     if (grid_.dim == 2 && s.type == "Face Traction" && s.face[0] == 'z')
       throw DeckError("'" + key + "/Face' = " + s.face + " needs 'Grid/Dimension' = 3");
     s.time = timeFunctionOf(l, key);
@@ -246,14 +264,16 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     const std::string bodyName = l.get<std::string>("Body");
     if (s.type == "Face Traction") {
       const BodySpec& b = bodyNamed(key + "/Body", bodyName);
-      if (!b.rectangle) throw DeckError("'" + key + "': a Face Traction needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
+      if (!b.rectangle)
+        throw DeckError("'" + key + "': a Face Traction needs a Rectangle body; 'Bodies/" + b.name + "' is not one");
       s.body = b.rect;
     }
     if (s.type == "Body Force" && !bodyName.empty())
       s.bodyIndex = (int)(&bodyNamed(key + "/Body", bodyName) - bodies_.data());
     if (s.type == "Manufactured Body Force") {
       if (!manufactured_)
-        throw DeckError("'" + key + "/Type' = Manufactured Body Force needs 'Exact Solution/Type' = Axis-Aligned Manufactured "
+        throw DeckError("'" + key +
+                        "/Type' = Manufactured Body Force needs 'Exact Solution/Type' = Axis-Aligned Manufactured "
                         "Solution (the field whose forcing it is)");
       s.manufactured = *manufactured_;
       s.bodyIndex = 0;  // the manufactured solution's single body
@@ -268,9 +288,11 @@ std::vector<LoadSpec> Simulation::buildLoads() {
     loadParticle.push_back(particle);
     specs.push_back(s);
   }
-  if (manufactured_ && std::none_of(specs.begin(), specs.end(), [](const LoadSpec& s) { return s.type == "Manufactured Body Force"; }))
-    throw DeckError("'Exact Solution/Type' = Axis-Aligned Manufactured Solution needs a load of 'Type' = Manufactured Body "
-                    "Force in Loads (without it the field is not a solution)");
+  if (manufactured_ &&
+      std::none_of(specs.begin(), specs.end(), [](const LoadSpec& s) { return s.type == "Manufactured Body Force"; }))
+    throw DeckError(
+        "'Exact Solution/Type' = Axis-Aligned Manufactured Solution needs a load of 'Type' = Manufactured Body "
+        "Force in Loads (without it the field is not a solution)");
   loadSpecs_ = specs;  // rebuilt for a new rank grid (load balance)
   loadParticleIds_ = loadParticle;
   loads_ = LoadSet(specs, *dist_, loadParticle, (int)bodies_.size(), shapeInfo(shape_).quadraticElements);
@@ -283,9 +305,10 @@ void Simulation::checkNodeReached(const std::string& key, const Point& point) co
   for (int d = 0; d < grid_.dim; ++d)
     node[d] = grid_.origin(d) + grid_.spacing(d) * std::lround((point[d] - grid_.origin(d)) / grid_.spacing(d));
   if (particlesReaching(node, node) == 0)
-    throw DeckError("'" + key + "/Type' = Node Force at " + describePoint(point) +
-                    ": no particle reaches this grid node at t = 0, so the force would act on no mass; put it on a node of a "
-                    "body, or use a Particle Force");
+    throw DeckError(
+        "'" + key + "/Type' = Node Force at " + describePoint(point) +
+        ": no particle reaches this grid node at t = 0, so the force would act on no mass; put it on a node of a "
+        "body, or use a Particle Force");
 }
 
 void Simulation::checkConditionsReached(const std::vector<ConstraintSpec>& specs) const {
@@ -301,9 +324,10 @@ void Simulation::checkConditionsReached(const std::vector<ConstraintSpec>& specs
         hi[d] = std::max(hi[d], x);
       }
     if (particlesReaching(lo, hi) == 0)
-      throw DeckError("'Constraints/" + s.name + "/Motion' = " +
-                      (s.motion == ConstraintSpec::Motion::Velocity ? "Velocity" : "Displacement") +
-                      ": no particle reaches its grid nodes at t = 0, so it would move nothing; put it where a body is");
+      throw DeckError(
+          "'Constraints/" + s.name +
+          "/Motion' = " + (s.motion == ConstraintSpec::Motion::Velocity ? "Velocity" : "Displacement") +
+          ": no particle reaches its grid nodes at t = 0, so it would move nothing; put it where a body is");
   }
 }
 
@@ -353,15 +377,14 @@ std::vector<WallSpec> Simulation::buildWalls() const {
     const std::string normal = w.get<std::string>("Normal");
     spec.axis = normal[0] - 'x';
     spec.side = normal[1] == '+' ? 1 : -1;
-    if (spec.axis >= grid_.dim)
-      throw DeckError("'" + key + "/Normal' = " + normal + " needs 'Grid/Dimension' = 3");
+    if (spec.axis >= grid_.dim) throw DeckError("'" + key + "/Normal' = " + normal + " needs 'Grid/Dimension' = 3");
     spec.position = w.get<double>("Position");
     const double o = grid_.origin(spec.axis), h = grid_.spacing(spec.axis);
     const int cells = spec.axis == 0 ? grid_.nx : spec.axis == 1 ? grid_.ny : grid_.nz;
     if (!onGridLine(spec.position, o, h) || spec.position < o - 1e-9 * h || spec.position > o + cells * h + 1e-9 * h)
-      throw DeckError("'" + key + "/Position' = " + formatNumber(spec.position) + " is not on a grid line inside the grid (" +
-                      std::string(1, char('x' + spec.axis)) + " = " + formatNumber(o) + " + k " + formatNumber(h) + ", k = 0.." +
-                      std::to_string(cells) + ")");
+      throw DeckError("'" + key + "/Position' = " + formatNumber(spec.position) +
+                      " is not on a grid line inside the grid (" + std::string(1, char('x' + spec.axis)) + " = " +
+                      formatNumber(o) + " + k " + formatNumber(h) + ", k = 0.." + std::to_string(cells) + ")");
     spec.friction = w.get<double>("Friction");
     if (!(spec.friction >= 0) || !std::isfinite(spec.friction))
       throw DeckError("'" + key + "/Friction' must be a finite coefficient >= 0, got " + formatNumber(spec.friction));

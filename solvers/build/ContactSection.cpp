@@ -14,11 +14,11 @@
 
 namespace impm {
 
+using schema::choice;
+using schema::number;
 using Teuchos::ParameterList;
 using Teuchos::RCP;
 using Teuchos::rcp;
-using schema::choice;
-using schema::number;
 
 namespace {
 const char* const kLawDoc =
@@ -35,7 +35,8 @@ void addContactSchema(ParameterList& valid) {
          "explicit integrator only. The force of each pair of bodies on the first is in history.csv "
          "(<pair>_contact_<x|y|z>; a pair not in Contact Pairs: <first>_<second> in the deck's body order) and "
          "summary.yaml");
-  choice(c, "Law", "Coulomb", {"Coulomb", "No Slip"}, std::string("the law of every pair not in Contact Pairs. ") + kLawDoc);
+  choice(c, "Law", "Coulomb", {"Coulomb", "No Slip"},
+         std::string("the law of every pair not in Contact Pairs. ") + kLawDoc);
   number(c, "Friction", 0.0, std::string(kFrictionDoc) + " of every pair not in Contact Pairs");
   choice(c, "Normals", "Larger Gradient", {"Larger Gradient", "Average"},
          "the contact normal at a node: Larger Gradient: the normal of the side with the larger volume gradient; "
@@ -51,15 +52,17 @@ void addContactSchema(ParameterList& valid) {
   number(c, "Mass Screen", 1.0e-5,
          "a node where a body holds less than this fraction of the mass (or more than 1 minus it) is not a contact "
          "node for it: the far edge of a stencil carries too little mass for a reliable normal");
-  valid.sublist("Contact Pairs", false,
-                "named sublists, each a pair of bodies with its own contact law (Contact/Type = Multi Field)")
+  valid
+      .sublist("Contact Pairs", false,
+               "named sublists, each a pair of bodies with its own contact law (Contact/Type = Multi Field)")
       .disableRecursiveValidation();
 }
 
 RCP<const ParameterList> build::contactPairsTemplate() {
   auto pl = rcp(new ParameterList("Contact Pairs"));
-  pl->set("Bodies", "", "the two bodies, 'first, second' (names in Bodies, in either order); the pair's force in "
-                        "history.csv is the force of the second on the first");
+  pl->set("Bodies", "",
+          "the two bodies, 'first, second' (names in Bodies, in either order); the pair's force in "
+          "history.csv is the force of the second on the first");
   choice(*pl, "Law", "Coulomb", {"Coulomb", "No Slip"}, kLawDoc);
   number(*pl, "Friction", 0.0, kFrictionDoc);
   return pl;
@@ -100,7 +103,8 @@ ContactSpec Simulation::buildContact() const {
   if (c.get<std::string>("Type") != "Multi Field") {
     for (const BodySpec& b : bodies_)
       if (b.rigid)
-        throw DeckError("'Bodies/" + b.name + "/Rigid' = true needs 'Contact/Type' = Multi Field (a rigid body meets "
+        throw DeckError("'Bodies/" + b.name +
+                        "/Rigid' = true needs 'Contact/Type' = Multi Field (a rigid body meets "
                         "the others through contact)");
     if (pairs.numParams() > 0)
       throw DeckError("'Contact Pairs/" + pairs.name(pairs.begin()) + "' needs 'Contact/Type' = Multi Field");
@@ -112,8 +116,10 @@ ContactSpec Simulation::buildContact() const {
     throw DeckError("'Contact/Mass Screen' must lie in [0, 0.5), got " + formatNumber(spec.massScreen));
   spec.contactDistance = c.get<double>("Contact Distance");
   if (!(spec.contactDistance >= 0) || !std::isfinite(spec.contactDistance))
-    throw DeckError("'Contact/Contact Distance' must be a finite number of cells >= 0, got " + formatNumber(spec.contactDistance));
-  spec.normals = c.get<std::string>("Normals") == "Average" ? ContactSpec::Normals::Average : ContactSpec::Normals::LargerGradient;
+    throw DeckError("'Contact/Contact Distance' must be a finite number of cells >= 0, got " +
+                    formatNumber(spec.contactDistance));
+  spec.normals =
+      c.get<std::string>("Normals") == "Average" ? ContactSpec::Normals::Average : ContactSpec::Normals::LargerGradient;
   const int n = (int)bodies_.size();
   for (const BodySpec& b : bodies_) spec.bodies.push_back(b.name);
   readRigidBodies(spec);
@@ -123,7 +129,8 @@ ContactSpec Simulation::buildContact() const {
   spec.pairSign.assign(n * (n - 1) / 2, 1.0);
   spec.pairNames.resize(n * (n - 1) / 2);
   for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b) spec.pairNames[ContactSpec::pairIndex(a, b, n)] = bodies_[a].name + "_" + bodies_[b].name;
+    for (int b = a + 1; b < n; ++b)
+      spec.pairNames[ContactSpec::pairIndex(a, b, n)] = bodies_[a].name + "_" + bodies_[b].name;
   for (auto it = pairs.begin(); it != pairs.end(); ++it) {
     const std::string name = pairs.name(it), key = "Contact Pairs/" + name;
     const ParameterList& p = pairs.sublist(name);
@@ -150,7 +157,8 @@ void Simulation::readRigidBodies(ContactSpec& spec) const {
     anyFree = anyFree || !b.rigid;
   }
   if (!anyFree)
-    throw DeckError("'Bodies/" + bodies_.front().name + "/Rigid': every body is rigid; contact needs a body that is not");
+    throw DeckError("'Bodies/" + bodies_.front().name +
+                    "/Rigid': every body is rigid; contact needs a body that is not");
 }
 
 // Multi-field contact: two bodies or more (at most MultiFieldContact::kMaxFields), the explicit
@@ -163,13 +171,15 @@ void Simulation::checkContactUsable() const {
   if (integrator.get<std::string>("Type") != "Explicit")
     throw DeckError("'Contact/Type' = Multi Field acts in the explicit step only; set 'Integrator/Type' = Explicit");
   if (bodies_.size() < 2)
-    throw DeckError("'Contact/Type' = Multi Field needs two bodies or more in Bodies, got " + std::to_string(bodies_.size()));
+    throw DeckError("'Contact/Type' = Multi Field needs two bodies or more in Bodies, got " +
+                    std::to_string(bodies_.size()));
   if ((int)bodies_.size() > MultiFieldContact::kMaxFields)
     throw DeckError("'Contact/Type' = Multi Field takes at most " + std::to_string(MultiFieldContact::kMaxFields) +
                     " bodies, got " + std::to_string(bodies_.size()));
   if (integrator.sublist("Explicit").get<int>("Consistent Projection Iterations") > 0)
-    throw DeckError("'Integrator/Explicit/Consistent Projection Iterations' must be 0 with 'Contact/Type' = Multi Field "
-                    "(the projection correction works on one velocity field)");
+    throw DeckError(
+        "'Integrator/Explicit/Consistent Projection Iterations' must be 0 with 'Contact/Type' = Multi Field "
+        "(the projection correction works on one velocity field)");
   const ParameterList& loads = deck_.sublist("Loads");
   for (auto it = loads.begin(); it != loads.end(); ++it) {
     const std::string type = loads.sublist(loads.name(it)).get<std::string>("Type");

@@ -22,7 +22,8 @@ using Teuchos::rcp;
 
 namespace {
 
-const std::set<std::string> kCollections = {"Materials", "Bodies", "Constraints", "Walls", "Contact Pairs", "Loads", "Monitors"};
+const std::set<std::string> kCollections = {"Materials",     "Bodies", "Constraints", "Walls",
+                                            "Contact Pairs", "Loads",  "Monitors"};
 // Sublists handed unchanged to Trilinos packages, which validate them themselves.
 const std::set<std::string> kPassThrough = {"Implicit Solver"};
 
@@ -100,17 +101,21 @@ RCP<const ParameterList> validParameters() {
   addGridSchema(v);
   v.sublist("Materials", false, "named sublists, each a material (see --print-defaults)").disableRecursiveValidation();
   v.sublist("Bodies", false,
-                 "named sublists, each a body: a shape filled with particles of one material (see --print-defaults); "
-                 "a later body replaces the particles of earlier ones inside its shape").disableRecursiveValidation();
+            "named sublists, each a body: a shape filled with particles of one material (see --print-defaults); "
+            "a later body replaces the particles of earlier ones inside its shape")
+      .disableRecursiveValidation();
   addMethodSchema(v);
   addIntegratorSchema(v);
   addInitialConditionsSchema(v);
   v.sublist("Implicit Solver", false,
-                 "Newton solver of the implicit step (NOX, Belos, Ifpack2, Amesos2); validated by the solver, "
-                 "see --print-defaults").disableRecursiveValidation();
+            "Newton solver of the implicit step (NOX, Belos, Ifpack2, Amesos2); validated by the solver, "
+            "see --print-defaults")
+      .disableRecursiveValidation();
   v.sublist("Constraints", false, "named sublists, each a displacement constraint (see --print-defaults)")
       .disableRecursiveValidation();
-  v.sublist("Walls", false, "named sublists, each a rigid wall the bodies meet (explicit; implicit: frictionless; see --print-defaults)")
+  v.sublist(
+       "Walls", false,
+       "named sublists, each a rigid wall the bodies meet (explicit; implicit: frictionless; see --print-defaults)")
       .disableRecursiveValidation();
   addContactSchema(v);
   v.sublist("Loads", false, "named sublists, each an external load").disableRecursiveValidation();
@@ -167,19 +172,23 @@ void convertSingleBodyForm(ParameterList& deck) {
   if (deck.isSublist("Bodies")) {
     for (const char* old : {"Material", "Body"})
       if (deck.isSublist(old))
-        throw DeckError(std::string("'") + old + "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
+        throw DeckError(std::string("'") + old +
+                        "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
                         "'Materials' / 'Bodies')");
     return;
   }
   if (deck.isSublist("Materials"))
     throw DeckError("'Materials' needs 'Bodies' (the single-body form uses 'Material' and 'Body')");
   if (!legacy)
-    throw DeckError("the deck has no body: add 'Materials' and 'Bodies', or the single-body sections 'Material' and 'Body'");
+    throw DeckError(
+        "the deck has no body: add 'Materials' and 'Bodies', or the single-body sections 'Material' and 'Body'");
   if (deck.isSublist("Grid"))
     for (const char* key : {"Plane Condition", "Thickness"})
       if (deck.sublist("Grid").isParameter(key))
-        throw DeckError(std::string("'Grid/") + key + "' belongs to the 'Materials'/'Bodies' form; the single-body form "
-                        "sets 'Material/" + key + "'");
+        throw DeckError(std::string("'Grid/") + key +
+                        "' belongs to the 'Materials'/'Bodies' form; the single-body form "
+                        "sets 'Material/" +
+                        key + "'");
   ParameterList material = deck.isSublist("Material") ? deck.sublist("Material") : ParameterList("Material");
   ParameterList body = deck.isSublist("Body") ? deck.sublist("Body") : ParameterList("Body");
   checkList(material, *legacyTemplate("Material"), "Material");
@@ -193,7 +202,8 @@ void convertSingleBodyForm(ParameterList& deck) {
   grid.set("Thickness", material.get<double>("Thickness"));
   ParameterList& m = deck.sublist("Materials").sublist("Material");
   std::vector<std::string> keys = {"Young Modulus", "Poisson Ratio", "Density"};
-  for (const auto& model : materialModels()) keys.insert(keys.end(), model.parameterKeys.begin(), model.parameterKeys.end());
+  for (const auto& model : materialModels())
+    keys.insert(keys.end(), model.parameterKeys.begin(), model.parameterKeys.end());
   for (const auto& key : keys) m.setEntry(key, material.getEntry(key));
   m.set("Model", material.get<std::string>("Model"));
   ParameterList& b = deck.sublist("Bodies").sublist("Body");
@@ -212,7 +222,8 @@ void validateDeck(ParameterList& deck) {
   // Deck keys name the single-body form in messages (e.g. 'Body/X Min'): check it first.
   for (const char* old : {"Material", "Body"})
     if (deck.isSublist(old) && deck.isSublist("Bodies"))
-      throw DeckError(std::string("'") + old + "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
+      throw DeckError(std::string("'") + old +
+                      "' is the single-body form and cannot be mixed with 'Bodies' (put it in "
                       "'Materials' / 'Bodies')");
   // A 3D deck has no 2D idealisation: a Plane Condition or Thickness it names would be ignored.
   // And a 2D deck must not name z keys of the grid or of a body (a 3D deck that forgot
@@ -228,7 +239,8 @@ void validateDeck(ParameterList& deck) {
     if (deck.isSublist("Grid"))
       for (const char* key : {"Cells Z", "Cell Size Z", "Origin Z"})
         if (named(deck.sublist("Grid"), key))
-          throw DeckError(std::string("'Grid/") + key + "' is a 3D key: set 'Grid/Dimension' = 3, or remove it for a 2D deck");
+          throw DeckError(std::string("'Grid/") + key +
+                          "' is a 3D key: set 'Grid/Dimension' = 3, or remove it for a 2D deck");
     if (deck.isSublist("Bodies")) {
       const ParameterList& bodies = deck.sublist("Bodies");
       for (auto it = bodies.begin(); it != bodies.end(); ++it)
@@ -242,9 +254,12 @@ void validateDeck(ParameterList& deck) {
   if (solid) {
     for (const char* key : {"Plane Condition", "Thickness"})
       if (named(deck.sublist("Grid"), key))
-        throw DeckError(std::string("'Grid/") + key + "' is a 2D idealisation; a deck with 'Grid/Dimension' = 3 has none (remove it)");
+        throw DeckError(std::string("'Grid/") + key +
+                        "' is a 2D idealisation; a deck with 'Grid/Dimension' = 3 has none (remove it)");
     if (deck.isSublist("Material") || deck.isSublist("Body"))
-      throw DeckError("the single-body form ('Material', 'Body') is 2D; a deck with 'Grid/Dimension' = 3 uses 'Materials' and 'Bodies'");
+      throw DeckError(
+          "the single-body form ('Material', 'Body') is 2D; a deck with 'Grid/Dimension' = 3 uses 'Materials' and "
+          "'Bodies'");
   }
   convertSingleBodyForm(deck);
   checkList(deck, *valid, "");

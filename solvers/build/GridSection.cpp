@@ -15,21 +15,22 @@
 
 namespace impm {
 
-using Teuchos::ParameterList;
-using Teuchos::RCP;
-using Teuchos::rcp;
+using build::kParticlePlacementDoc;
+using build::onGridLine;
+using build::timeFunctionKeys;
 using schema::choice;
 using schema::number;
 using schema::positive;
 using schema::positiveInt;
-using build::onGridLine;
-using build::kParticlePlacementDoc;
-using build::timeFunctionKeys;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
 
 void addGridSchema(ParameterList& valid) {
   ParameterList& p = valid.sublist("Grid", false, "structured background grid");
-  p.set("Dimension", 2, "2 (plane strain or plane stress, with Thickness) or 3 (Origin Z, Cells Z, Cell Size Z; "
-                        "no Plane Condition or Thickness)");
+  p.set("Dimension", 2,
+        "2 (plane strain or plane stress, with Thickness) or 3 (Origin Z, Cells Z, Cell Size Z; "
+        "no Plane Condition or Thickness)");
   number(p, "Origin X", 0.0, "x of the lower-left corner");
   number(p, "Origin Y", 0.0, "y of the lower-left corner");
   number(p, "Origin Z", 0.0, "z of the lower corner (3D)");
@@ -46,18 +47,20 @@ void addGridSchema(ParameterList& valid) {
 
 void addMethodSchema(ParameterList& valid) {
   ParameterList& p = valid.sublist("Method", false, "spatial discretisation");
-  choice(p, "Shape Function", "MPM", shapeNames(),
-         "MPM: linear tent at particle points; GIMP: uniform GIMP; cpGIMP: GIMP with the particle domain "
-         "stretched by the diagonal of F (capped at half a cell), for large deformation; CPDI: CPDI1 (Sadeghirad et al. "
-         "2011), the domain a parallelogram / parallelepiped carried by the full F, weights averaged over its corners "
-         "(corners within 3 cells per direction); B-Spline Quadratic: C1 "
-         "quadratic B-splines at particle points (3 nodes per direction, Steffen et al.'s boundary splines at the "
-         "grid edge; at least 2 cells per direction); B-Spline Cubic: C2 cubic B-splines at particle points (4 nodes "
-         "per direction, Steffen et al.'s modified edge splines; at least 3 cells per direction); FE Q4 / FE Q9: the finite-element "
-         "reference on the same kernels, particles fixed at the Gauss points (Q4: bilinear, 2 x 2 per cell; "
-         "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
-         "only, Rectangle bodies only; Particles Per Cell is not used. In 3D FE Q4 is the trilinear Hex8 "
-         "(2 x 2 x 2 points per cell) and FE Q9 the triquadratic Hex27 (3 x 3 x 3 per element of 2 x 2 x 2 cells)");
+  choice(
+      p, "Shape Function", "MPM", shapeNames(),
+      "MPM: linear tent at particle points; GIMP: uniform GIMP; cpGIMP: GIMP with the particle domain "
+      "stretched by the diagonal of F (capped at half a cell), for large deformation; CPDI: CPDI1 (Sadeghirad et al. "
+      "2011), the domain a parallelogram / parallelepiped carried by the full F, weights averaged over its corners "
+      "(corners within 3 cells per direction); B-Spline Quadratic: C1 "
+      "quadratic B-splines at particle points (3 nodes per direction, Steffen et al.'s boundary splines at the "
+      "grid edge; at least 2 cells per direction); B-Spline Cubic: C2 cubic B-splines at particle points (4 nodes "
+      "per direction, Steffen et al.'s modified edge splines; at least 3 cells per direction); FE Q4 / FE Q9: the "
+      "finite-element "
+      "reference on the same kernels, particles fixed at the Gauss points (Q4: bilinear, 2 x 2 per cell; "
+      "Q9: biquadratic Lagrange elements of 2 x 2 cells, 3 x 3 points; Cells X and Y even), implicit "
+      "only, Rectangle bodies only; Particles Per Cell is not used. In 3D FE Q4 is the trilinear Hex8 "
+      "(2 x 2 x 2 points per cell) and FE Q9 the triquadratic Hex27 (3 x 3 x 3 per element of 2 x 2 x 2 cells)");
   choice(p, "Volumetric Locking", "None", {"None", "F-bar"},
          "None: each particle's own deformation; F-bar: each particle's volume change over a step is that of its cell "
          "(the volume-weighted mean of det dF over the cell's particles of the same material, Coombs et al. 2018), "
@@ -67,8 +70,8 @@ void addMethodSchema(ParameterList& valid) {
 }
 
 void addDecompositionSchema(ParameterList& valid) {
-  ParameterList& p = valid.sublist("Decomposition", false,
-                                    "how MPI ranks split the grid: a Cartesian grid of ranks, each owning a box of cells");
+  ParameterList& p = valid.sublist(
+      "Decomposition", false, "how MPI ranks split the grid: a Cartesian grid of ranks, each owning a box of cells");
   p.set("Ranks X", 0,
         "ranks along x (0: impm chooses every direction left 0, the factorisation of the rank count with the fewest "
         "nodes on rank boundaries); Ranks X x Ranks Y (x Ranks Z) must equal the rank count when all are given");
@@ -114,8 +117,9 @@ void Simulation::readMethod() {
     throw DeckError("'Method/Volumetric Locking' = F-bar is for material points; 'Method/Shape Function' = " + shape_ +
                     " is the finite-element reference");
   if (fbar_ && grid_.dim == 2 && deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress")
-    throw DeckError("'Method/Volumetric Locking' = F-bar is for plane strain and 3D; 'Grid/Plane Condition' = Plane Stress "
-                    "has no volumetric locking to control");
+    throw DeckError(
+        "'Method/Volumetric Locking' = F-bar is for plane strain and 3D; 'Grid/Plane Condition' = Plane Stress "
+        "has no volumetric locking to control");
 }
 
 // The rank grid and the grid distribution (Decomposition).
@@ -126,16 +130,19 @@ void Simulation::distribute() {
   const ParameterList& dec = deck_.sublist("Decomposition");
   migrationSlack_ = dec.get<int>("Migration Slack Cells");
   if (migrationSlack_ < 0)
-    throw DeckError("'Decomposition/Migration Slack Cells' must be 0 or positive, got " + std::to_string(migrationSlack_));
+    throw DeckError("'Decomposition/Migration Slack Cells' must be 0 or positive, got " +
+                    std::to_string(migrationSlack_));
   const int reach = shapeInfo(shape_).cornerDomains ? 3 : 2;
   // A rank's block is wider than the slack, so that a particle can only stray into a neighbour's.
-  const RankGrid ranks(grid_, comm_->getSize(), {dec.get<int>("Ranks X"), dec.get<int>("Ranks Y"), dec.get<int>("Ranks Z")},
+  const RankGrid ranks(grid_, comm_->getSize(),
+                       {dec.get<int>("Ranks X"), dec.get<int>("Ranks Y"), dec.get<int>("Ranks Z")},
                        migrationSlack_ + 1);
   dist_ = std::make_unique<GridDistribution>(grid_, comm_, reach + migrationSlack_, ranks);
   loadBalanceInterval_ = dec.get<int>("Load Balance Interval");
   loadBalanceThreshold_ = dec.get<double>("Load Balance Threshold");
   if (loadBalanceInterval_ < 0)
-    throw DeckError("'Decomposition/Load Balance Interval' must be 0 (off) or positive, got " + std::to_string(loadBalanceInterval_));
+    throw DeckError("'Decomposition/Load Balance Interval' must be 0 (off) or positive, got " +
+                    std::to_string(loadBalanceInterval_));
   if (!(loadBalanceThreshold_ >= 1.0))
     throw DeckError("'Decomposition/Load Balance Threshold' must be at least 1 (max / mean particles per rank), got " +
                     formatNumber(loadBalanceThreshold_));

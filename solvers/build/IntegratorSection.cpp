@@ -17,16 +17,16 @@
 
 namespace impm {
 
-using Teuchos::ParameterList;
-using Teuchos::RCP;
-using Teuchos::rcp;
+using build::kParticlePlacementDoc;
+using build::onGridLine;
+using build::timeFunctionKeys;
 using schema::choice;
 using schema::number;
 using schema::positive;
 using schema::positiveInt;
-using build::onGridLine;
-using build::kParticlePlacementDoc;
-using build::timeFunctionKeys;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
 
 void addIntegratorSchema(ParameterList& valid) {
   ParameterList& p = valid.sublist("Integrator", false, "time integration");
@@ -46,8 +46,9 @@ void addIntegratorSchema(ParameterList& valid) {
          "extrapolated on the grid to order XPIC Order, which removes FLIP's null-space noise (order 1 = PIC); one "
          "velocity field. Explicit integrator only, with FLIP Fraction 1 (not used) and Consistent Projection "
          "Iterations 0");
-  e.set("XPIC Order", 5, "Transfer XPIC: the order m of XPIC(m), 1 to 40 (1 = PIC; each order above 1 costs one "
-                         "more pass over the particles)");
+  e.set("XPIC Order", 5,
+        "Transfer XPIC: the order m of XPIC(m), 1 to 40 (1 = PIC; each order above 1 costs one "
+        "more pass over the particles)");
   number(e, "Mass Damping", 0.0,
          "mass-proportional damping c (1/s): each grid node's acceleration gets -c v_i (a force -c m_i v_i), for "
          "dynamic relaxation to a quasi-static state; a mode of angular frequency omega is critically damped at "
@@ -61,7 +62,8 @@ void addIntegratorSchema(ParameterList& valid) {
          "lumped bilinear cells, times the smallest critical fraction measured over every transfer scheme "
          "(apps/stability_study.py) with a margin; above 1 a warning (the run may diverge)");
   ParameterList& im = p.sublist("Implicit", false, "implicit integrator options");
-  im.set("Maximum Step Halvings", 4, "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
+  im.set("Maximum Step Halvings", 4,
+         "a step whose Newton iteration fails is retried with dt/2, dt/4, ... this many times");
   im.set("Consistent Projection Iterations", 0,
          "Jacobi iterations towards the consistent-mass projection of particle velocity and acceleration to "
          "the grid (0: lumped projection; see Integrator/Explicit); not used with Mass Matrix: Consistent, "
@@ -77,7 +79,8 @@ void addIntegratorSchema(ParameterList& valid) {
          "tangent at the trial state (material and geometric), instead of once per step");
   choice(im, "Mass Matrix", "Lumped", {"Lumped", "Consistent"},
          "Lumped: Guilkey & Weiss; Consistent: R uses M_C u and particles take their own Newmark update, "
-         "which conserves the particles' energy (P then holds the consistent mass too, except with GIMP Stiffness = Integrated)");
+         "which conserves the particles' energy (P then holds the consistent mass too, except with GIMP Stiffness = "
+         "Integrated)");
   choice(im, "GIMP Stiffness", "Consistent", {"Integrated", "Consistent"},
          "GIMP's assembled stiffness (preconditioner, or Jacobian of Assembled Newton): Consistent = V_p B^T D B "
          "with the averaged gradients, the exact derivative of the GIMP internal force (Newton converges "
@@ -104,7 +107,8 @@ void addIntegratorSchema(ParameterList& valid) {
          "(never beyond the deck's Time Step), and a failed one is retried at half its size, down to Minimum Time "
          "Step. history.csv and the VTU files stay on the deck's steps");
   number(im, "Minimum Time Step", 0.0,
-         "Adaptive Time Step: the smallest sub-step before the run stops (0: the deck's Time Step / 2^Maximum Step Halvings)");
+         "Adaptive Time Step: the smallest sub-step before the run stops (0: the deck's Time Step / 2^Maximum Step "
+         "Halvings)");
   im.set("Consistent Initial Acceleration", true,
          "start from a(0) = M^-1 (F_ext(0) + F_int(0)) instead of zero particle accelerations");
   number(im, "Newmark Beta", 0.25,
@@ -138,21 +142,27 @@ void Simulation::applyInitialConditions() {
   const ParameterList& ic = deck_.sublist("Initial Conditions");
   const std::string icType = ic.get<std::string>("Type");
   if ((icType == "Manufactured Solution") != (manufactured_ != nullptr))
-    throw DeckError(manufactured_ ? "'Initial Conditions/Type' must be Manufactured Solution with 'Exact Solution/Type' = "
-                                    "Axis-Aligned Manufactured Solution (the particles start on the solution), got " + icType
-                                  : "'Initial Conditions/Type' = Manufactured Solution needs 'Exact Solution/Type' = Axis-Aligned "
-                                    "Manufactured Solution (the field it starts from)");
+    throw DeckError(
+        manufactured_ ? "'Initial Conditions/Type' must be Manufactured Solution with 'Exact Solution/Type' = "
+                        "Axis-Aligned Manufactured Solution (the particles start on the solution), got " +
+                            icType
+                      : "'Initial Conditions/Type' = Manufactured Solution needs 'Exact Solution/Type' = Axis-Aligned "
+                        "Manufactured Solution (the field it starts from)");
   if (manufactured_) applyManufacturedVelocity(particles_, *manufactured_);
   const double icAmplitude = ic.get<double>("Amplitude");
   const int icMode = ic.get<int>("Mode");
   if (icType == "Standing Wave") {
     if (!(icAmplitude != 0.0 && std::isfinite(icAmplitude)))
-      throw DeckError("'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
-                      formatNumber(icAmplitude));
+      throw DeckError(
+          "'Initial Conditions/Amplitude' must be a non-zero velocity amplitude for Type = Standing Wave, got " +
+          formatNumber(icAmplitude));
     if (icMode < 1)
-      throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " + std::to_string(icMode));
+      throw DeckError("'Initial Conditions/Mode' must be at least 1 for Type = Standing Wave, got " +
+                      std::to_string(icMode));
     const BodySpec& b = bodyNamed("Exact Solution/Body", deck_.sublist("Exact Solution").get<std::string>("Body"));
-    if (!b.rectangle) throw DeckError("'Initial Conditions/Type' = Standing Wave needs a Rectangle body: 'Bodies/" + b.name + "' is not one");
+    if (!b.rectangle)
+      throw DeckError("'Initial Conditions/Type' = Standing Wave needs a Rectangle body: 'Bodies/" + b.name +
+                      "' is not one");
     if (bodies_.size() > 1)
       throw DeckError("'Initial Conditions/Type' = Standing Wave is one mode of a single bar: the deck has " +
                       std::to_string(bodies_.size()) + " bodies");
@@ -176,15 +186,20 @@ static void readTransfer(ExplicitOptions& eopt, const ParameterList& ex, bool ex
   if (eopt.transfer == ParticleTransfer::Xpic && (eopt.xpicOrder < 1 || eopt.xpicOrder > 40))
     throw DeckError("'Integrator/Explicit/XPIC Order' must lie in [1, 40], got " + std::to_string(eopt.xpicOrder));
   if (!explicitRun)
-    throw DeckError(key + " is the explicit integrator's transfer: with 'Integrator/Type' = Implicit set "
-                          "'Integrator/Implicit/Transfer' (FLIP, APIC or TPIC)");
+    throw DeckError(key +
+                    " is the explicit integrator's transfer: with 'Integrator/Type' = Implicit set "
+                    "'Integrator/Implicit/Transfer' (FLIP, APIC or TPIC)");
   if (eopt.projectionIterations > 0)
-    throw DeckError(key + " needs 'Integrator/Explicit/Consistent Projection Iterations' = 0 (the projection correction " +
-                    (eopt.transfer == ParticleTransfer::Xpic ? "and XPIC both filter v_p" : "corrects v_p, not the affine velocity") +
+    throw DeckError(key +
+                    " needs 'Integrator/Explicit/Consistent Projection Iterations' = 0 (the projection correction " +
+                    (eopt.transfer == ParticleTransfer::Xpic ? "and XPIC both filter v_p"
+                                                             : "corrects v_p, not the affine velocity") +
                     "), got " + std::to_string(eopt.projectionIterations));
   if (eopt.flip != 1.0)
-    throw DeckError(key + " sets the particle velocity itself: leave 'Integrator/Explicit/FLIP Fraction' at 1 (it "
-                          "blends FLIP and PIC with Transfer FLIP/PIC), got " + formatNumber(eopt.flip));
+    throw DeckError(key +
+                    " sets the particle velocity itself: leave 'Integrator/Explicit/FLIP Fraction' at 1 (it "
+                    "blends FLIP and PIC with Transfer FLIP/PIC), got " +
+                    formatNumber(eopt.flip));
 }
 
 // Integrator/Explicit: the update scheme and its options, and the stable time step (checked for an
@@ -212,14 +227,14 @@ ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
   // c_p: the fastest material's. A factor above 1 leaves the measured stable range: allowed for
   // stability studies, with a warning, and the run's divergence guard stops a run that blows up.
   const double cp = materials_.maxPWaveSpeed();
-  const double inverseSquares = 1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy) +
-                                (grid_.dim == 3 ? 1.0 / (grid_.hz * grid_.hz) : 0.0);
+  const double inverseSquares =
+      1.0 / (grid_.hx * grid_.hx) + 1.0 / (grid_.hy * grid_.hy) + (grid_.dim == 3 ? 1.0 / (grid_.hz * grid_.hz) : 0.0);
   const double critical = kTransferStabilityFraction / (cp * std::sqrt(inverseSquares));
   const double limit = factor * critical;
   if (integratorType == "Explicit") criticalStep_ = critical;
   if (integratorType == "Explicit" && dt_ > limit)
-    throw DeckError("'Integrator/Time Step' = " + formatNumber(dt_) + " exceeds the explicit stable limit " + formatNumber(limit) +
-                    " (Stability Factor x " + formatNumber(kTransferStabilityFraction) +
+    throw DeckError("'Integrator/Time Step' = " + formatNumber(dt_) + " exceeds the explicit stable limit " +
+                    formatNumber(limit) + " (Stability Factor x " + formatNumber(kTransferStabilityFraction) +
                     (grid_.dim == 3 ? " / (P-wave speed x sqrt(1/hx^2 + 1/hy^2 + 1/hz^2)), P-wave speed "
                                     : " / (P-wave speed x sqrt(1/hx^2 + 1/hy^2)), P-wave speed ") +
                     formatNumber(cp) + " m/s)");
@@ -244,13 +259,15 @@ static void readImplicitTransfer(ImplicitOptions& iopt, const ParameterList& im)
   if (iopt.transfer == ParticleTransfer::Xpic && (iopt.xpicOrder < 1 || iopt.xpicOrder > 40))
     throw DeckError("'Integrator/Implicit/XPIC Order' must lie in [1, 40], got " + std::to_string(iopt.xpicOrder));
   if (iopt.fixedParticles)
-    throw DeckError(key + " moves the particles: the FE reference ('Method/Shape Function' = FE ...) keeps its Gauss "
-                          "points in place; use Transfer FLIP");
-  if (iopt.consistentMass)
-    throw DeckError(key + " needs 'Integrator/Implicit/Mass Matrix' = Lumped");
+    throw DeckError(key +
+                    " moves the particles: the FE reference ('Method/Shape Function' = FE ...) keeps its Gauss "
+                    "points in place; use Transfer FLIP");
+  if (iopt.consistentMass) throw DeckError(key + " needs 'Integrator/Implicit/Mass Matrix' = Lumped");
   if (iopt.projectionIterations > 0)
-    throw DeckError(key + " needs 'Integrator/Implicit/Consistent Projection Iterations' = 0 (the projection "
-                          "correction acts on v_p alone), got " + std::to_string(iopt.projectionIterations));
+    throw DeckError(key +
+                    " needs 'Integrator/Implicit/Consistent Projection Iterations' = 0 (the projection "
+                    "correction acts on v_p alone), got " +
+                    std::to_string(iopt.projectionIterations));
 }
 
 // Integrator/Implicit: the Newmark scheme, the step control and the preconditioner refresh.
@@ -276,14 +293,15 @@ ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
   iopt.newmark.beta = im.get<double>("Newmark Beta");
   iopt.newmark.gamma = im.get<double>("Newmark Gamma");
   if (!(iopt.newmark.gamma >= 0.5 && 2 * iopt.newmark.beta >= iopt.newmark.gamma && iopt.newmark.beta <= 1.0))
-    throw DeckError("'Integrator/Implicit/Newmark Beta' = " + formatNumber(iopt.newmark.beta) + " and 'Newmark Gamma' = " +
-                    formatNumber(iopt.newmark.gamma) +
+    throw DeckError("'Integrator/Implicit/Newmark Beta' = " + formatNumber(iopt.newmark.beta) +
+                    " and 'Newmark Gamma' = " + formatNumber(iopt.newmark.gamma) +
                     ": the implicit integrator needs an unconditionally stable Newmark scheme, 2 beta >= gamma >= 1/2 "
                     "(and beta <= 1)");
   iopt.adaptiveTimeStep = im.get<bool>("Adaptive Time Step");
   iopt.minimumTimeStep = im.get<double>("Minimum Time Step");
   if (!(iopt.minimumTimeStep >= 0))
-    throw DeckError("'Integrator/Implicit/Minimum Time Step' must not be negative, got " + formatNumber(iopt.minimumTimeStep));
+    throw DeckError("'Integrator/Implicit/Minimum Time Step' must not be negative, got " +
+                    formatNumber(iopt.minimumTimeStep));
   if (iopt.minimumTimeStep > dt_)
     throw DeckError("'Integrator/Implicit/Minimum Time Step' = " + formatNumber(iopt.minimumTimeStep) +
                     " s exceeds 'Integrator/Time Step' = " + formatNumber(dt_) + " s");
@@ -303,7 +321,8 @@ void Simulation::buildIntegrator() {
   const ExplicitOptions eopt = readExplicitOptions(integratorType == "Explicit");
   const bool fe = shapeInfo(shape_).fixedParticles;
   if (fe && integratorType != "Implicit")
-    throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " + integratorType);
+    throw DeckError("'Method/Shape Function' = " + shape_ + " runs with 'Integrator/Type' = Implicit only, got " +
+                    integratorType);
   if (integratorType != "Implicit") {
     try {
       NewtonSolver check(Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver"))));
@@ -335,11 +354,13 @@ void Simulation::makeIntegrator() {
       constexpr int Dim = decltype(dimension)::value;
       return visitShape(shape_, [&](auto shape, const ShapeInfo&) -> std::unique_ptr<Integrator> {
         using Shape = typename decltype(shape)::type;
-        return std::make_unique<ImplicitNewmark<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_, iopt);
+        return std::make_unique<ImplicitNewmark<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_,
+                                                             iopt);
       });
     };
     try {
-      integrator_ = grid_.dim == 3 ? implicitOf(std::integral_constant<int, 3>{}) : implicitOf(std::integral_constant<int, 2>{});
+      integrator_ =
+          grid_.dim == 3 ? implicitOf(std::integral_constant<int, 3>{}) : implicitOf(std::integral_constant<int, 2>{});
     } catch (const std::invalid_argument& e) {
       throw DeckError(e.what());
     }
@@ -352,12 +373,14 @@ void Simulation::makeIntegrator() {
         if constexpr (std::is_same_v<Shape, QuadraticLagrange>) {
           return nullptr;  // (FE Q9 is implicit only: refused above)
         } else {
-          return std::make_unique<ExplicitStepper<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_, eopt);
+          return std::make_unique<ExplicitStepper<Shape, Dim>>(particles_, *dist_, materials_, constraints_, loads_,
+                                                               eopt);
         }
       });
     };
     try {  // the stepper's refusals name the deck key they concern: bad input, exit 2
-      integrator_ = grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});
+      integrator_ =
+          grid_.dim == 3 ? explicitOf(std::integral_constant<int, 3>{}) : explicitOf(std::integral_constant<int, 2>{});
     } catch (const std::invalid_argument& e) {
       throw DeckError(e.what());
     }

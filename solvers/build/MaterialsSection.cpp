@@ -13,16 +13,16 @@
 
 namespace impm {
 
-using Teuchos::ParameterList;
-using Teuchos::RCP;
-using Teuchos::rcp;
+using build::kParticlePlacementDoc;
+using build::onGridLine;
+using build::timeFunctionKeys;
 using schema::choice;
 using schema::number;
 using schema::positive;
 using schema::positiveInt;
-using build::onGridLine;
-using build::kParticlePlacementDoc;
-using build::timeFunctionKeys;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
 
 void Simulation::buildMaterials() {
   const ParameterList& ms = deck_.sublist("Materials");
@@ -32,11 +32,13 @@ void Simulation::buildMaterials() {
     const MaterialParameters p = readMaterial(ms.sublist(name), key, [&](const MaterialModelInfo& model) {
       if (!model.finiteStrain) return;
       if (grid_.dim == 2 && deck_.sublist("Grid").get<std::string>("Plane Condition") == "Plane Stress")
-        throw DeckError("'" + key + "/Model' = " + model.name + " is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
-                        "would need the out-of-plane stretch solved per particle (use Plane Strain or Grid/Dimension 3)");
+        throw DeckError(
+            "'" + key + "/Model' = " + model.name +
+            " is plane strain or 3D; 'Grid/Plane Condition' = Plane Stress "
+            "would need the out-of-plane stretch solved per particle (use Plane Strain or Grid/Dimension 3)");
       if (shapeInfo(shape_).fixedParticles)
-        throw DeckError("'" + key + "/Model' = " + model.name + " needs moving particles; 'Method/Shape Function' = " + shape_ +
-                        " is the small-strain finite-element reference (use MPM, GIMP or cpGIMP)");
+        throw DeckError("'" + key + "/Model' = " + model.name + " needs moving particles; 'Method/Shape Function' = " +
+                        shape_ + " is the small-strain finite-element reference (use MPM, GIMP or cpGIMP)");
     });
     params.push_back(p);
     materialNames_.push_back(name);

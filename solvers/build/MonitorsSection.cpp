@@ -15,16 +15,16 @@
 
 namespace impm {
 
-using Teuchos::ParameterList;
-using Teuchos::RCP;
-using Teuchos::rcp;
+using build::kParticlePlacementDoc;
+using build::onGridLine;
+using build::timeFunctionKeys;
 using schema::choice;
 using schema::number;
 using schema::positive;
 using schema::positiveInt;
-using build::onGridLine;
-using build::kParticlePlacementDoc;
-using build::timeFunctionKeys;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
 
 RCP<const ParameterList> build::monitorsTemplate() {
   auto pl = rcp(new ParameterList("Monitors"));
@@ -42,8 +42,8 @@ RCP<const ParameterList> build::monitorsTemplate() {
 void addExactSolutionSchema(ParameterList& valid) {
   ParameterList& p = valid.sublist("Exact Solution", false, "exact solution for the monitors, if any");
   choice(p, "Type", "None",
-         {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load", "Column Under Self-Weight",
-          "Axis-Aligned Manufactured Solution", "Cantilever End Load"},
+         {"None", "Bar Step Load", "Simply Supported Beam", "Bar Standing Wave", "Layered Bar Step Load",
+          "Column Under Self-Weight", "Axis-Aligned Manufactured Solution", "Cantilever End Load"},
          "Bar Step Load: 1D rod fixed at X Min under the step load named by Load at X Max; "
          "Layered Bar Step Load: the same rod made of all the Rectangle bodies side by side along x, each of its "
          "own material, the load at the right end of the last: the wave fronts traced through every interface "
@@ -88,7 +88,8 @@ void Simulation::readManufacturedSolution() {
     early.bodies = bodies_;
     early.materials = &materials_;
     early.dimension = grid_.dim;
-    manufactured_ = std::make_unique<AxisAlignedManufactured>(axisAlignedManufactured(deck_.sublist("Exact Solution"), early));
+    manufactured_ =
+        std::make_unique<AxisAlignedManufactured>(axisAlignedManufactured(deck_.sublist("Exact Solution"), early));
   }
 }
 
@@ -128,7 +129,8 @@ void Simulation::buildExactSolution(const std::vector<ConstraintSpec>& cspecs, c
 }
 
 std::string Simulation::describePoint(const Point& p) const {
-  return "(" + formatNumber(p[0]) + ", " + formatNumber(p[1]) + (grid_.dim == 3 ? ", " + formatNumber(p[2]) : std::string()) + ")";
+  return "(" + formatNumber(p[0]) + ", " + formatNumber(p[1]) +
+         (grid_.dim == 3 ? ", " + formatNumber(p[2]) : std::string()) + ")";
 }
 
 void Simulation::checkNearParticle(const std::string& what, const Point& p, const Monitor& nearest) const {
@@ -155,7 +157,10 @@ void Simulation::nearestParticle(const Point& point, Monitor& m) const {
     double d2 = 0;
     for (int d = 0; d < dim; ++d) d2 += (xh(p, d) - point[d]) * (xh(p, d) - point[d]);
     const double dist = std::sqrt(d2);
-    if (dist < best - 1e-15 * (1 + dist)) { best = dist; local = p; }
+    if (dist < best - 1e-15 * (1 + dist)) {
+      best = dist;
+      local = p;
+    }
   }
   double gbest = 0;
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, best, Teuchos::outArg(gbest));
@@ -170,7 +175,9 @@ void Simulation::nearestParticle(const Point& point, Monitor& m) const {
   }
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 4, pos, gpos);
   m.localIndex = local;
-  m.x0 = gpos[0]; m.y0 = gpos[1]; m.z0 = gpos[2];
+  m.x0 = gpos[0];
+  m.y0 = gpos[1];
+  m.z0 = gpos[2];
   m.particleId = std::llround(gpos[3]);
 }
 

@@ -21,16 +21,16 @@
 
 namespace impm {
 
-using Teuchos::ParameterList;
-using Teuchos::RCP;
-using Teuchos::rcp;
+using build::kParticlePlacementDoc;
+using build::onGridLine;
+using build::timeFunctionKeys;
 using schema::choice;
 using schema::number;
 using schema::positive;
 using schema::positiveInt;
-using build::onGridLine;
-using build::kParticlePlacementDoc;
-using build::timeFunctionKeys;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
 
 namespace {
 
@@ -56,8 +56,8 @@ void checkOutputDirectory(const std::string& dir, const std::string& key) {
   }
   std::string probe = (existing / ".impm-write-test-XXXXXX").string();
   if (!mkdtemp(probe.data()))
-    throw DeckError(what + (existing == target ? " is not writable" : " cannot be created") + ": no directory can be made in '" +
-                    existing.string() + "' (" + std::strerror(errno) + ")");
+    throw DeckError(what + (existing == target ? " is not writable" : " cannot be created") +
+                    ": no directory can be made in '" + existing.string() + "' (" + std::strerror(errno) + ")");
   rmdir(probe.c_str());
 }
 
@@ -99,7 +99,8 @@ void addProblemSchema(ParameterList& valid) {
 void addOutputSchema(ParameterList& valid) {
   ParameterList& p = valid.sublist("Output", false, "what is written");
   p.set("History Interval", 10, "steps between rows of history.csv");
-  p.set("History Digits", 10, "significant digits of the values in history.csv (1 to 17; 17 writes every double exactly)");
+  p.set("History Digits", 10,
+        "significant digits of the values in history.csv (1 to 17; 17 writes every double exactly)");
   p.set("VTK Interval", 0, "steps between VTU particle files (0: first and last step only)");
   p.set("Plot", true, "write plot.png (computed against exact) with python3-matplotlib");
   p.set("Progress", true, "print a progress line with ETA on runs longer than a few seconds");
@@ -153,13 +154,15 @@ void Simulation::checkOutputIntervals() const {
 
 void Simulation::checkProblemSize(bool implicit) const {
   const bool solid = grid_.dim == 3;
-  const std::string cells = std::string(solid ? "'Grid/Cells X' x 'Grid/Cells Y' x 'Grid/Cells Z' = " : "'Grid/Cells X' x 'Grid/Cells Y' = ") +
+  const std::string cells = std::string(solid ? "'Grid/Cells X' x 'Grid/Cells Y' x 'Grid/Cells Z' = "
+                                              : "'Grid/Cells X' x 'Grid/Cells Y' = ") +
                             std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
                             (solid ? " x " + std::to_string(grid_.nz) : std::string());
   const double nodes = (grid_.nx + 1.0) * (grid_.ny + 1.0) * (solid ? grid_.nz + 1.0 : 1.0);
   if (nodes * grid_.dim / 2 > kMaxGridNodes)
-    throw DeckError(cells + " makes " + formatNumber(nodes) + " grid nodes, more than impm's 32-bit local indices hold with " +
-                    std::to_string(grid_.dim) + " unknowns per node");
+    throw DeckError(cells + " makes " + formatNumber(nodes) +
+                    " grid nodes, more than impm's 32-bit local indices hold with " + std::to_string(grid_.dim) +
+                    " unknowns per node");
   double particles = 0, coveredCells = 0;
   size_t largest = 0;
   for (size_t b = 0; b < bodies_.size(); ++b) {
@@ -174,11 +177,12 @@ void Simulation::checkProblemSize(bool implicit) const {
       !big.particlesFile.empty() ? key + "/File'"
       : placement_ != Placement::Lattice
           ? key + "' (the Gauss points of 'Method/Shape Function' = " + shape_ + ")"
-          : key + "/Particles Per Cell X' x 'Particles Per Cell Y' = " + std::to_string(big.rect.particlesPerCellX) + " x " +
-                std::to_string(big.rect.particlesPerCellY);
+          : key + "/Particles Per Cell X' x 'Particles Per Cell Y' = " + std::to_string(big.rect.particlesPerCellX) +
+                " x " + std::to_string(big.rect.particlesPerCellY);
   if (particles > std::numeric_limits<int>::max())
-    throw DeckError("the bodies make an estimated " + formatNumber(particles) + " particles (" + source + "), more than the " +
-                    std::to_string(std::numeric_limits<int>::max()) + " that a particle index holds");
+    throw DeckError("the bodies make an estimated " + formatNumber(particles) + " particles (" + source +
+                    "), more than the " + std::to_string(std::numeric_limits<int>::max()) +
+                    " that a particle index holds");
 
   const double limitGB = deck_.sublist("Problem").get<double>("Memory Limit GB");
   if (!(limitGB >= 0)) throw DeckError("'Problem/Memory Limit GB' must not be negative, got " + formatNumber(limitGB));
@@ -190,24 +194,25 @@ void Simulation::checkProblemSize(bool implicit) const {
   // and Hex27, 192^2 for cubic B-splines and CPDI, 4 nodes per direction; the 2D constants include their blocks).
   const double blockNodes = shapeInfo(shape_).stencilNodes1d, reach = 2.0 * blockNodes - 1.0;
   const double activeScale = solid ? 1.5 * 1.5 * reach : 1.0;
-  const double blockBytesPerParticle = implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
-  const double gridBytes =
-      implicit ? nodes * kBytesPerNodeImplicitVoid +
-                     std::min(nodes, 2 * coveredCells) * kBytesPerNodeImplicitActive * activeScale
-               : nodes * kBytesPerNodeExplicit;
-  const double particleBytes =
-      particles * (ParticleSet::bytesPerParticle(grid_.dim) + blockBytesPerParticle + kFillBytesPerParticlePerRank * ranks);
+  const double blockBytesPerParticle =
+      implicit && solid ? 8.0 * std::pow(grid_.dim * std::pow(blockNodes, grid_.dim), 2) : 0.0;
+  const double gridBytes = implicit ? nodes * kBytesPerNodeImplicitVoid +
+                                          std::min(nodes, 2 * coveredCells) * kBytesPerNodeImplicitActive * activeScale
+                                    : nodes * kBytesPerNodeExplicit;
+  const double particleBytes = particles * (ParticleSet::bytesPerParticle(grid_.dim) + blockBytesPerParticle +
+                                            kFillBytesPerParticlePerRank * ranks);
   const double needed = ranks * kBytesPerRank + gridBytes + particleBytes;
   auto gigabytes = [](double bytes) { return formatNumber(std::max(0.01, std::round(bytes / 1e7) / 100)) + " GB"; };
   // The machine's memory is read on rank 0 only: every rank takes its verdict.
   rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] {
     const double limit = limitGB > 0 ? limitGB * 1e9 : availableMemoryBytes();
     if (limit > 0 && needed > limit)
-      throw DeckError("the run needs an estimated " + gigabytes(needed) + " (grid " + gigabytes(gridBytes) + ": " + cells +
-                      "; particles " + gigabytes(particleBytes) + ": " + formatNumber(particles) + " particles, the most from " + source +
-                      "), more than " +
+      throw DeckError("the run needs an estimated " + gigabytes(needed) + " (grid " + gigabytes(gridBytes) + ": " +
+                      cells + "; particles " + gigabytes(particleBytes) + ": " + formatNumber(particles) +
+                      " particles, the most from " + source + "), more than " +
                       (limitGB > 0 ? "'Problem/Memory Limit GB' = " + formatNumber(limitGB)
-                                   : "the " + gigabytes(limit) + " available (MemAvailable; 'Problem/Memory Limit GB' sets a limit)"));
+                                   : "the " + gigabytes(limit) +
+                                         " available (MemAvailable; 'Problem/Memory Limit GB' sets a limit)"));
   });
 }
 

@@ -13,15 +13,15 @@
 namespace impm {
 
 // The schema of each fixed section, added to the deck's list of valid parameters.
-void addProblemSchema(Teuchos::ParameterList& valid);         // ProblemSection.cpp
+void addProblemSchema(Teuchos::ParameterList& valid);  // ProblemSection.cpp
 void addOutputSchema(Teuchos::ParameterList& valid);
-void addGridSchema(Teuchos::ParameterList& valid);            // GridSection.cpp
+void addGridSchema(Teuchos::ParameterList& valid);  // GridSection.cpp
 void addMethodSchema(Teuchos::ParameterList& valid);
 void addDecompositionSchema(Teuchos::ParameterList& valid);
-void addIntegratorSchema(Teuchos::ParameterList& valid);      // IntegratorSection.cpp
+void addIntegratorSchema(Teuchos::ParameterList& valid);  // IntegratorSection.cpp
 void addInitialConditionsSchema(Teuchos::ParameterList& valid);
-void addExactSolutionSchema(Teuchos::ParameterList& valid);   // MonitorsSection.cpp
-void addContactSchema(Teuchos::ParameterList& valid);         // ContactSection.cpp (Contact, Contact Pairs)
+void addExactSolutionSchema(Teuchos::ParameterList& valid);  // MonitorsSection.cpp
+void addContactSchema(Teuchos::ParameterList& valid);        // ContactSection.cpp (Contact, Contact Pairs)
 
 namespace build {
 
@@ -30,8 +30,8 @@ Teuchos::RCP<const Teuchos::ParameterList> bodiesTemplate();       // BodiesSect
 Teuchos::RCP<const Teuchos::ParameterList> constraintsTemplate();  // ConditionsSection.cpp
 Teuchos::RCP<const Teuchos::ParameterList> loadsTemplate();
 Teuchos::RCP<const Teuchos::ParameterList> wallsTemplate();
-Teuchos::RCP<const Teuchos::ParameterList> monitorsTemplate();     // MonitorsSection.cpp
-Teuchos::RCP<const Teuchos::ParameterList> contactPairsTemplate(); // ContactSection.cpp
+Teuchos::RCP<const Teuchos::ParameterList> monitorsTemplate();      // MonitorsSection.cpp
+Teuchos::RCP<const Teuchos::ParameterList> contactPairsTemplate();  // ContactSection.cpp
 // The time-function keys of a load or a prescribed motion (physics/TimeFunction.hpp).
 void timeFunctionKeys(Teuchos::ParameterList& pl, const std::string& def, const std::string& what);
 // The documentation of Particle Placement (Bodies, and the single-body form's Body).

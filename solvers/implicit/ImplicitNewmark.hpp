@@ -1,7 +1,7 @@
 // Implicit MPM/GIMP after Guilkey & Weiss (2003), extended to GIMP (the seed, slides 2-6): the
-// step driver. Newmark on the grid (solvers/implicit/NewmarkScheme.hpp), solved for the grid displacement increment u of
-// the step by a Newton iteration (NewtonSolver: NOX Jacobian-free Newton-Krylov, or Newton
-// with the assembled stiffness).
+// step driver. Newmark on the grid (solvers/implicit/NewmarkScheme.hpp), solved for the grid displacement increment u
+// of the step by a Newton iteration (NewtonSolver: NOX Jacobian-free Newton-Krylov, or Newton with the assembled
+// stiffness).
 //
 //   R(u) = M (4/dt^2 u - 4/dt v - a) + F_int(u) - F_ext(t + dt) = 0   on the free dofs,
 //
@@ -48,7 +48,7 @@ struct ImplicitOptions {
   // node at u = 0 strains the particle by u / h (a falling body, test_newmark); its row is then
   // carried by the stiffness.
   double massTolerance = 1e-12;
-  int maxStepHalvings = 4;       // a step whose Newton iteration fails is retried with dt/2, dt/4, ...
+  int maxStepHalvings = 4;                    // a step whose Newton iteration fails is retried with dt/2, dt/4, ...
   bool consistentInitialAcceleration = true;  // a(0) = M^-1 (F_ext(0) - F_int(0)) instead of zero
   // Jacobi iterations towards the consistent-mass projection of particle velocity and
   // acceleration to the grid (0: lumped p / m). See ExplicitStepper.
@@ -142,20 +142,20 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   // The step's set-up: particles to grid at t (mass, momentum, m a; F_ext at t + dt), the grid's
   // v and a at t, the prescribed motion and the free dofs.
   void setUpStep(double t, double dt);
-  void forcesAtStart(double t);          // F_int + F_ext at t, for the acceleration from forces
+  void forcesAtStart(double t);                    // F_int + F_ext at t, for the acceleration from forces
   void startKinematics(bool initialAcceleration);  // v, a at t from the momentum sums or the grid
   void normalizeGridState(double t, double dt, bool accelerationFromForces);
   StepControl::Outcome solveStep(double t, double dt);  // one Newton solve of [t, t + dt]
-  void finishStep(const Vector& u);      // grid and particle update with the converged u
-  bool reviseWallContacts(const Vector& u);  // walls: release / hold components; true if any changed
+  void finishStep(const Vector& u);                     // grid and particle update with the converged u
+  bool reviseWallContacts(const Vector& u);             // walls: release / hold components; true if any changed
   auto heldWallReaction() const;
-  void gridUpdate();                     // a_new and the velocity increment on the grid
-  void updateParticles();                // stress, then x, v, a of the particles
+  void gridUpdate();       // a_new and the velocity increment on the grid
+  void updateParticles();  // stress, then x, v, a of the particles
   template <ParticleTransfer Transfer>
-  void updateAffineParticles();          // APIC, TPIC: x, v, C_p, a from the grid at t + dt
-  void recordReactions(const Vector& u); // the grid conditions' reactions: the residual at their dofs
-  void scatterUnknowns(const Vector& u); // u (free dofs) -> ghosted grid displacement
-  void correctProjection();              // consistent-mass correction of v and a on the grid
+  void updateAffineParticles();           // APIC, TPIC: x, v, C_p, a from the grid at t + dt
+  void recordReactions(const Vector& u);  // the grid conditions' reactions: the residual at their dofs
+  void scatterUnknowns(const Vector& u);  // u (free dofs) -> ghosted grid displacement
+  void correctProjection();               // consistent-mass correction of v and a on the grid
   bool equilibriumAcceleration() const {
     return opt_.equilibriumAcceleration && !opt_.consistentMass && !opt_.fixedParticles;
   }
@@ -190,7 +190,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   // |P| (P's values in absolute value) for residualMagnitude, and the P version it was taken of.
   Teuchos::RCP<CrsMatrix> absP_;
   long absPVersion_ = -1;
-  std::vector<double> restoredP_;  // a checkpoint's P, taken at the first jacobianMatrix()
+  std::vector<double> restoredP_;             // a checkpoint's P, taken at the first jacobianMatrix()
   Teuchos::RCP<MultiVector> gridKinematics_;  // fixed particles: grid v, a at the end of the last step
   Teuchos::RCP<MultiVector> endKinematics_;   // APIC, TPIC: ghosted grid v, a at t + dt (KinColumns)
 

@@ -26,23 +26,33 @@ std::string describeSolver(const Teuchos::ParameterList& p);  // ImplicitNewmark
 // Nodes per direction of a stiffness block: cells (2), the seed's GIMP cells (2), Q9 elements (3),
 // or the shape's stencil.
 template <class Shape>
-int stiffnessBlockNodes(bool seedGimpStiffness) { return seedGimpStiffness ? 2 : Shape::max_nodes_1d; }
+int stiffnessBlockNodes(bool seedGimpStiffness) {
+  return seedGimpStiffness ? 2 : Shape::max_nodes_1d;
+}
 template <class Shape>
-int stiffnessBlockStride() { return std::is_same<Shape, QuadraticLagrange>::value ? 2 : 1; }
+int stiffnessBlockStride() {
+  return std::is_same<Shape, QuadraticLagrange>::value ? 2 : 1;
+}
 }  // namespace implicit
 
 template <class Shape, int Dim>
 ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridDistribution& dist,
                                              const Materials& material, GridConditions& conditions,
                                              const LoadSet& loads, const ImplicitOptions& options)
-    : ps_(particles), dist_(dist), mat_(material), conditions_(conditions), loads_(loads), opt_(options),
+    : ps_(particles),
+      dist_(dist),
+      mat_(material),
+      conditions_(conditions),
+      loads_(loads),
+      opt_(options),
       projection_(dist),
       solver_(std::make_unique<NewtonSolver>(options.solverParams)),
       seedGimpStiffness_(std::is_same<Shape, UniformGimp>::value && options.seedGimpStiffness),
-      assembler_(dist, implicit::stiffnessBlockNodes<Shape>(seedGimpStiffness_), implicit::stiffnessBlockStride<Shape>(),
-                 options.stiffnessFill),
-      refresh_(solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free", options.preconditionerRefreshInterval,
-               options.preconditionerRefreshKrylov, options.preconditionerEveryNewton),
+      assembler_(dist, implicit::stiffnessBlockNodes<Shape>(seedGimpStiffness_),
+                 implicit::stiffnessBlockStride<Shape>(), options.stiffnessFill),
+      refresh_(solver_->parameters().get<std::string>("Jacobian") == "Jacobian-Free",
+               options.preconditionerRefreshInterval, options.preconditionerRefreshKrylov,
+               options.preconditionerEveryNewton),
       control_(options.maxStepHalvings, options.adaptiveTimeStep, options.minimumTimeStep) {
   using SC = implicit::StateColumns<Dim>;
   using DC = implicit::DisplacementColumns<Dim>;
@@ -54,27 +64,33 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
   forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), FC::Count));
   forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), FC::Count));
   // (Linear MPM: every node a particle reaches is an unknown; see ImplicitOptions::massTolerance.)
-  massCutoff_ = std::is_same<Shape, LinearMpm>::value ? 0.0 : opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
+  massCutoff_ =
+      std::is_same<Shape, LinearMpm>::value ? 0.0 : opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
   if (seedGimpStiffness_ && Dim == 3)
-    throw std::invalid_argument("'Integrator/Implicit/GIMP Stiffness' = Integrated (the seed's overlap integrals) is 2D only; use Consistent in 3D");
+    throw std::invalid_argument(
+        "'Integrator/Implicit/GIMP Stiffness' = Integrated (the seed's overlap integrals) is 2D only; use Consistent "
+        "in 3D");
   if (opt_.fbar) {
     // (Tried: Newton on the assembled blocks at the barred state converges linearly at 0.35 per
     // iteration, and misses the tolerance within 20 iterations even in an elastic step.)
     if (!jacobianFree())
-      throw std::invalid_argument("'Method/Volumetric Locking' = F-bar needs 'Implicit Solver/Jacobian' = Jacobian-Free: "
-                                  "the assembled Jacobian leaves out F-bar's coupling of the particles in a cell");
+      throw std::invalid_argument(
+          "'Method/Volumetric Locking' = F-bar needs 'Implicit Solver/Jacobian' = Jacobian-Free: "
+          "the assembled Jacobian leaves out F-bar's coupling of the particles in a cell");
     fbar_ = std::make_unique<FbarAveraging<Dim>>(dist, mat_.count());
   }
   if (opt_.transfer != ParticleTransfer::FlipPic &&
       (opt_.fixedParticles || opt_.consistentMass || opt_.projectionIterations > 0))
-    throw std::invalid_argument("'Integrator/Implicit/Transfer' = APIC, TPIC or XPIC moves the particles with a "
-                                "lumped-mass grid: not with the FE reference, 'Mass Matrix' = Consistent or "
-                                "'Consistent Projection Iterations' > 0");
+    throw std::invalid_argument(
+        "'Integrator/Implicit/Transfer' = APIC, TPIC or XPIC moves the particles with a "
+        "lumped-mass grid: not with the FE reference, 'Mass Matrix' = Consistent or "
+        "'Consistent Projection Iterations' > 0");
   if (carriesAffineVelocity(opt_.transfer)) {
     if (!ps_.hasAffine()) ps_.allocateAffine();
     endKinematics_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), KinColumns<Dim>::Count));
   }
-  if (opt_.transfer == ParticleTransfer::Xpic) xpic_ = std::make_unique<XpicExtrapolation<Shape, Dim>>(dist, opt_.xpicOrder);
+  if (opt_.transfer == ParticleTransfer::Xpic)
+    xpic_ = std::make_unique<XpicExtrapolation<Shape, Dim>>(dist, opt_.xpicOrder);
   if (opt_.fixedParticles) {
     gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * Dim));
     if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ps_.newVector("u");
@@ -93,14 +109,15 @@ template <class Shape, int Dim>
 std::string ImplicitNewmark<Shape, Dim>::name() const {
   const std::string method = opt_.fixedParticles ? (Dim == 3 ? (Shape::max_nodes_1d == 3 ? "FE Hex27" : "FE Hex8")
                                                              : (Shape::max_nodes_1d == 3 ? "FE Q9" : "FE Q4"))
-                                                  : Shape::name;
+                                                 : Shape::name;
   std::string scheme = "Newmark";
   if (!opt_.newmark.averageAcceleration()) {
     std::ostringstream os;
     os << "Newmark beta " << opt_.newmark.beta << " gamma " << opt_.newmark.gamma;
     scheme = os.str();
   }
-  return std::string("implicit ") + method + " " + scheme + " (" + implicit::describeSolver(solver_->parameters()) + ")";
+  return std::string("implicit ") + method + " " + scheme + " (" + implicit::describeSolver(solver_->parameters()) +
+         ")";
 }
 
 // ---- The step's set-up ------------------------------------------------------------------------
@@ -202,7 +219,8 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
         const bool massive = m > cutoff;
         for (int d = 0; d < Dim; ++d) {
           s(n, SC::VelX + d) = massive ? s(n, SC::VelX + d) / m : 0.0;
-          s(n, SC::AccX + d) = massive ? (accelerationFromForces ? f(n, FC::ForceX + d) / m : s(n, SC::AccX + d) / m) : 0.0;
+          s(n, SC::AccX + d) =
+              massive ? (accelerationFromForces ? f(n, FC::ForceX + d) / m : s(n, SC::AccX + d) / m) : 0.0;
           s(n, SC::FreeX + d) = massive ? 1.0 : 0.0;
         }
       });
@@ -263,13 +281,15 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
     if (fbar_) {  // the cells' volume change first (core/kernels/FbarAveraging.hpp)
       gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX);
       fbar_->template accumulate<Exec>(ps_, 1.0);
-      scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f, FC::ForceX,
-                                                  fbar_->correction(ps_));
+      scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f,
+                                                  FC::ForceX, fbar_->correction(ps_));
     } else {
-      scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f, FC::ForceX);
+      scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f,
+                                                  FC::ForceX);
     }
     if (opt_.consistentMass)  // M_C u = sum_p m_p S_ip u_p with u_p = sum_j S_jp u_j
-      particleToGridMassProduct<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX, f, FC::MassProductX);
+      particleToGridMassProduct<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX, f,
+                                                  FC::MassProductX);
   }
   forceOwned_->putScalar(0.0);
   forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
@@ -385,7 +405,8 @@ double ImplicitNewmark<Shape, Dim>::residualMagnitude(const Vector& u) {
       absP_ = Teuchos::rcp(new CrsMatrix(*P, Teuchos::Copy));
       auto values = absP_->getLocalMatrixDevice().values;
       Kokkos::parallel_for(
-          "abs_P", Kokkos::RangePolicy<Exec>(0, values.extent(0)), KOKKOS_LAMBDA(int k) { values(k) = std::fabs(values(k)); });
+          "abs_P", Kokkos::RangePolicy<Exec>(0, values.extent(0)),
+          KOKKOS_LAMBDA(int k) { values(k) = std::fabs(values(k)); });
       absPVersion_ = refresh_.jacobianVersion();
     }
     absP_->apply(absU, sum);
@@ -404,7 +425,8 @@ double ImplicitNewmark<Shape, Dim>::residualMagnitude(const Vector& u) {
         "residual_magnitude", Kokkos::RangePolicy<Exec>(0, node.extent(0)), KOKKOS_LAMBDA(int i) {
           const int n = node(i), d = comp(i);
           const double m = s(n, SC::Mass);
-          const double start = std::fabs(m * (c2 * s(n, SC::VelX + d) + c3 * s(n, SC::AccX + d))) + std::fabs(s(n, SC::FextX + d));
+          const double start =
+              std::fabs(m * (c2 * s(n, SC::VelX + d) + c3 * s(n, SC::AccX + d))) + std::fabs(s(n, SC::FextX + d));
           out(i, 0) = (withP ? out(i, 0) : m * c1 * au(i, 0)) + start;
         });
   }
@@ -502,7 +524,8 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
     conditions_.template write<Exec>(d, DC::DvX, PrescribedField::VelocityChange);
     if (conditions_.hasWalls()) {
       conditions_.implicitWalls().template stop<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt);
-      conditions_.template rubImplicitWalls<Exec>(d, DC::AnewX, DC::DvX, s, SC::Mass, SC::VelX, heldWallReaction(), dt, gamma);
+      conditions_.template rubImplicitWalls<Exec>(d, DC::AnewX, DC::DvX, s, SC::Mass, SC::VelX, heldWallReaction(), dt,
+                                                  gamma);
     }
   }
   if (!opt_.fixedParticles) return;
@@ -513,7 +536,9 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
       "grid_newmark_update", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
         for (int c = 0; c < Dim; ++c) {
           const double aNew = d(n, DC::AnewX + c);
-          kin(n, c) = s(n, SC::FreeX + c) > 0.5 ? s(n, SC::VelX + c) + dt * ((1 - gamma) * s(n, SC::AccX + c) + gamma * aNew) : 0.0;
+          kin(n, c) = s(n, SC::FreeX + c) > 0.5
+                          ? s(n, SC::VelX + c) + dt * ((1 - gamma) * s(n, SC::AccX + c) + gamma * aNew)
+                          : 0.0;
           kin(n, Dim + c) = aNew;
         }
       });
@@ -539,11 +564,16 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
   if (opt_.transfer == ParticleTransfer::Apic) return updateAffineParticles<ParticleTransfer::Apic>();
   if (opt_.transfer == ParticleTransfer::Tpic) return updateAffineParticles<ParticleTransfer::Tpic>();
   // XPIC: v_p <- sum S v* from the step's start velocity; the update below adds the increment.
-  if (xpic_) xpic_->replaceParticleVelocity(*stateOwned_, implicit::StateColumns<Dim>::Mass,
-                                            implicit::StateColumns<Dim>::VelX, ps_, conditions_, massCutoff_, true);
+  if (xpic_)
+    xpic_->replaceParticleVelocity(*stateOwned_, implicit::StateColumns<Dim>::Mass, implicit::StateColumns<Dim>::VelX,
+                                   ps_, conditions_, massCutoff_, true);
   const StructuredGrid g = dist_.grid();
   const LocalNodeIndexer ix = dist_.ghostedIndexer();
-  auto x = ps_.x; auto hs = ps_.halfSize; auto v = ps_.v; auto a = ps_.a; auto up = ps_.u;
+  auto x = ps_.x;
+  auto hs = ps_.halfSize;
+  auto v = ps_.v;
+  auto a = ps_.a;
+  auto up = ps_.u;
   const auto deformation = DomainDeformation<Shape, Dim>::of(ps_);
   const NewmarkConstants k(opt_.newmark, dt_);
   const double c1 = k.c1, c2 = k.c2, c3 = k.c3, dt = k.dt, gamma = k.gamma;
@@ -562,10 +592,14 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
         });
         for (int c = 0; c < Dim; ++c) {
           if (consistent) an[c] = c1 * u[c] - c2 * v(p, c) - c3 * a(p, c);  // the particle's own Newmark update
-          if (fixed) up(p, c) += u[c];
-          else x(p, c) += u[c];
-          if (gridIncrement) v(p, c) += dv[c];
-          else v(p, c) += dt * ((1 - gamma) * a(p, c) + gamma * an[c]);
+          if (fixed)
+            up(p, c) += u[c];
+          else
+            x(p, c) += u[c];
+          if (gridIncrement)
+            v(p, c) += dv[c];
+          else
+            v(p, c) += dt * ((1 - gamma) * a(p, c) + gamma * an[c]);
           a(p, c) = an[c];
         }
       });
@@ -596,21 +630,25 @@ void ImplicitNewmark<Shape, Dim>::updateAffineParticles() {
   const StructuredGrid g = dist_.grid();
   const LocalNodeIndexer ix = dist_.ghostedIndexer();
   const FixedParticleViews<Dim> pv(ps_);
-  auto x = pv.x; auto v = pv.v; auto a = pv.a; auto affine = pv.affine;
-  gatherFromGrid<Exec, Shape, Dim>("implicit_g2p_affine", g, ps_, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
-    double xp[Dim], vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {}, C[Dim][Dim], u[Dim] = {};
-    for (int c = 0; c < Dim; ++c) xp[c] = x(p, c);
-    gatherAffineKinematics<Transfer>(st, g, ix, kin, 0, xp, vi, ai, grad, C);
-    st.forEachNode(ix, [&](int n, double w, const double*) {
-      for (int c = 0; c < Dim; ++c) u[c] += w * d(n, DC::UX + c);
-    });
-    for (int c = 0; c < Dim; ++c) {
-      x(p, c) += u[c];
-      v(p, c) = vi[c];
-      a(p, c) = ai[c];
-      for (int j = 0; j < Dim; ++j) affine(p, c, j) = C[c][j];
-    }
-  });
+  auto x = pv.x;
+  auto v = pv.v;
+  auto a = pv.a;
+  auto affine = pv.affine;
+  gatherFromGrid<Exec, Shape, Dim>(
+      "implicit_g2p_affine", g, ps_, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st) {
+        double xp[Dim], vi[Dim] = {}, ai[Dim] = {}, grad[Dim][Dim] = {}, C[Dim][Dim], u[Dim] = {};
+        for (int c = 0; c < Dim; ++c) xp[c] = x(p, c);
+        gatherAffineKinematics<Transfer>(st, g, ix, kin, 0, xp, vi, ai, grad, C);
+        st.forEachNode(ix, [&](int n, double w, const double*) {
+          for (int c = 0; c < Dim; ++c) u[c] += w * d(n, DC::UX + c);
+        });
+        for (int c = 0; c < Dim; ++c) {
+          x(p, c) += u[c];
+          v(p, c) = vi[c];
+          a(p, c) = ai[c];
+          for (int j = 0; j < Dim; ++j) affine(p, c, j) = C[c][j];
+        }
+      });
 }
 
 // ---- Driving the step -------------------------------------------------------------------------
@@ -691,7 +729,8 @@ void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
   const std::vector<double>& s = state.at("implicit scalars");
-  if (s.size() != 17) throw std::runtime_error("checkpoint: 'implicit scalars' has " + std::to_string(s.size()) + " entries, not 17");
+  if (s.size() != 17)
+    throw std::runtime_error("checkpoint: 'implicit scalars' has " + std::to_string(s.size()) + " entries, not 17");
   firstStep_ = s[0] != 0;
   refresh_.restore(s[3], s[4], s[5], s[6]);
   statistics_.restoreScalars(std::vector<double>(s.begin() + 7, s.begin() + 13));

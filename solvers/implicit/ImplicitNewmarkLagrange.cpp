@@ -1,4 +1,5 @@
-// ImplicitNewmark for the quadratic Lagrange (FE Q9/Hex27) shape, 2D and 3D (one translation unit per family, built in parallel).
+// ImplicitNewmark for the quadratic Lagrange (FE Q9/Hex27) shape, 2D and 3D (one translation unit per family, built in
+// parallel).
 #include "solvers/implicit/ImplicitNewmarkImpl.hpp"
 
 namespace impm {

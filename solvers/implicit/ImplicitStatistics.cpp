@@ -44,8 +44,12 @@ void ImplicitStatistics::addCosts(Teuchos::ParameterList& s) const {
 }
 
 std::vector<double> ImplicitStatistics::scalars() const {
-  return {double(hardestStepIterations_), double(residualEvaluations_), secondsSetUp_, secondsSolve_,
-          secondsSolverSetUp_, secondsFinish_};
+  return {double(hardestStepIterations_),
+          double(residualEvaluations_),
+          secondsSetUp_,
+          secondsSolve_,
+          secondsSolverSetUp_,
+          secondsFinish_};
 }
 
 void ImplicitStatistics::restoreScalars(const std::vector<double>& s) {

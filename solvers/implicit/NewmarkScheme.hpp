@@ -25,7 +25,9 @@ struct NewmarkConstants {
   // a_new of a component that moved by u over the step from v, a.
   KOKKOS_INLINE_FUNCTION double newAcceleration(double u, double v, double a) const { return c1 * u - c2 * v - c3 * a; }
   // v_new - v = dt ((1 - gamma) a + gamma a_new).
-  KOKKOS_INLINE_FUNCTION double velocityChange(double a, double aNew) const { return dt * ((1 - gamma) * a + gamma * aNew); }
+  KOKKOS_INLINE_FUNCTION double velocityChange(double a, double aNew) const {
+    return dt * ((1 - gamma) * a + gamma * aNew);
+  }
 };
 
 }  // namespace impm

@@ -15,7 +15,9 @@ namespace impm {
 class PreconditionerRefresh {
  public:
   PreconditionerRefresh(bool jacobianFree, int interval, int krylovThreshold, bool everyNewton)
-      : jacobianFree_(jacobianFree), interval_(std::max(1, interval)), krylovThreshold_(krylovThreshold),
+      : jacobianFree_(jacobianFree),
+        interval_(std::max(1, interval)),
+        krylovThreshold_(krylovThreshold),
         everyNewton_(everyNewton) {}
 
   // Whether P is the tangent at the Newton iterate (assembled anew at each one): finite strain
@@ -24,7 +26,8 @@ class PreconditionerRefresh {
 
   // Jacobian-free: whether the P of an earlier step stands for this one (counts the step).
   bool keep(bool havePreviousP, bool trialTangent) {
-    if (jacobianFree_ && !trialTangent && havePreviousP && !requested_ && ++stepsSinceAssembly_ < interval_) return true;
+    if (jacobianFree_ && !trialTangent && havePreviousP && !requested_ && ++stepsSinceAssembly_ < interval_)
+      return true;
     stepsSinceAssembly_ = 0;
     requested_ = false;
     return false;

@@ -61,8 +61,10 @@ void StepControl::adaptive(double t, double dt, const Solve& solve) {
     tc += h;
     const int n = outcome.newtonIterations;
     // (A sub-step cut short by the end of the deck step does not shrink the carried size.)
-    if (n > 12) subStep_ = 0.6 * h;
-    else if (n < 4) subStep_ = std::min(2.0 * std::max(h, subStep_), dt);
+    if (n > 12)
+      subStep_ = 0.6 * h;
+    else if (n < 4)
+      subStep_ = std::min(2.0 * std::max(h, subStep_), dt);
   }
 }
 

@@ -46,7 +46,8 @@ void StiffnessAssembler<Dim>::forEachBlockCoupling(const MultiVector& stateGhost
       for (int ck = 0; ck < b.count[2]; ++ck) {
         const int bi = b.first[0] + ci * b.stride, bj = b.first[1] + cj * b.stride, bk = b.first[2] + ck * b.stride;
         for (int a = 0; a < nodeCount; ++a) {
-          const int i = bi + a % b.nodes[0], j = bj + (a / b.nodes[0]) % b.nodes[1], k = bk + a / (b.nodes[0] * b.nodes[1]);
+          const int i = bi + a % b.nodes[0], j = bj + (a / b.nodes[0]) % b.nodes[1],
+                    k = bk + a / (b.nodes[0] * b.nodes[1]);
           const bool inBox = gix.contains(i, j, k);
           const int ln = inBox ? gix(i, j, k) : 0;
           for (int d = 0; d < Dim; ++d) {
@@ -121,7 +122,8 @@ void StiffnessAssembler<Dim>::buildGraph(const MultiVector& stateGhosted, int fr
   auto hb = Kokkos::create_mirror_view(blockOffsets_);
   Kokkos::deep_copy(hb, -1L);
   const long ndd = long(nd_) * nd_;
-  forEachBlockCoupling(stateGhosted, freeX, [&](long block, int rc, GO row, GO col) { hb(block * ndd + rc) = offsetOf(row, col); });
+  forEachBlockCoupling(stateGhosted, freeX,
+                       [&](long block, int rc, GO row, GO col) { hb(block * ndd + rc) = offsetOf(row, col); });
   Kokkos::deep_copy(blockOffsets_, hb);
   diagonalOffsets_ = Kokkos::View<long*, DeviceType>("diagonal_offsets", dofs.size());
   auto hd = Kokkos::create_mirror_view(diagonalOffsets_);
@@ -215,8 +217,10 @@ void StiffnessAssembler<Dim>::fill(const BlockMatrices& blocks, const FreeDofMap
   using Exec = ExecutionSpace;
   const auto unknownMap = dofs.map();
   overlapP_->resumeFill();
-  if (parallelFill_) sumBlocks(blocks);
-  else sumBlocksSequential(blocks);
+  if (parallelFill_)
+    sumBlocks(blocks);
+  else
+    sumBlocksSequential(blocks);
   if (lumpedMass) {
     auto values = overlapP_->getLocalMatrixDevice().values;
     auto m = lumpedMass->getLocalViewDevice(Tpetra::Access::ReadOnly);
@@ -274,7 +278,8 @@ bool StiffnessAssembler<Dim>::restore(const std::vector<double>& saved, const Fr
   if (!same) return false;
   P_ = Teuchos::rcp(new CrsMatrix(dofs.map(), longest));
   for (size_t r = 0; r < rowGids.size(); ++r)
-    P_->insertGlobalValues(rowGids[r], Teuchos::ArrayView<const GO>(cols[r]), Teuchos::ArrayView<const double>(values[r]));
+    P_->insertGlobalValues(rowGids[r], Teuchos::ArrayView<const GO>(cols[r]),
+                           Teuchos::ArrayView<const double>(values[r]));
   P_->fillComplete(dofs.map(), dofs.map());
   patternKey_.clear();
   return true;

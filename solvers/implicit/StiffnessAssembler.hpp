@@ -42,8 +42,8 @@ class StiffnessAssembler {
 
   // P = sum of the blocks + massFactor diag(m) at the free dofs (when lumpedMass is given: the
   // mass in its column massColumn). Requires updatePattern for this step's dofs.
-  void fill(const BlockMatrices& blocks, const FreeDofMap<Dim>& dofs, const MultiVector* lumpedMass,
-            int massColumn, double massFactor);
+  void fill(const BlockMatrices& blocks, const FreeDofMap<Dim>& dofs, const MultiVector* lumpedMass, int massColumn,
+            double massFactor);
 
   Teuchos::RCP<CrsMatrix> matrix() const { return P_; }
   void forgetMatrix() { P_ = Teuchos::null; }
@@ -59,7 +59,8 @@ class StiffnessAssembler {
   struct BlockGrid {
     int nodes[3] = {1, 1, 1}, first[3] = {0, 0, 0}, count[3] = {1, 1, 1}, stride = 1;
     KOKKOS_INLINE_FUNCTION long index(int bi, int bj, int bk) const {
-      return (long((bi - first[0]) / stride) * count[1] + (bj - first[1]) / stride) * count[2] + (bk - first[2]) / stride;
+      return (long((bi - first[0]) / stride) * count[1] + (bj - first[1]) / stride) * count[2] +
+             (bk - first[2]) / stride;
     }
     long size() const { return long(count[0]) * count[1] * count[2]; }
     int nodeCount() const { return nodes[0] * nodes[1] * nodes[2]; }

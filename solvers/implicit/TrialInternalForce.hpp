@@ -73,13 +73,14 @@ struct NewmarkResidualAtNode {
     using FC = implicit::ForceColumns<Dim>;
     const double m = s(n, SC::Mass);
     const double inertia = consistentMass ? c1 * f(n, FC::MassProductX + d) : m * c1 * u;
-    return inertia - m * (c2 * s(n, SC::VelX + d) + c3 * s(n, SC::AccX + d)) - f(n, FC::ForceX + d) - s(n, SC::FextX + d);
+    return inertia - m * (c2 * s(n, SC::VelX + d) + c3 * s(n, SC::AccX + d)) - f(n, FC::ForceX + d) -
+           s(n, SC::FextX + d);
   }
 };
 
 template <int Dim, class StateView, class ForceView>
 NewmarkResidualAtNode<Dim, StateView, ForceView> newmarkResidualAtNode(const StateView& s, const ForceView& f,
-                                                                     const NewmarkConstants& k, bool consistentMass) {
+                                                                       const NewmarkConstants& k, bool consistentMass) {
   return {s, f, k.c1, k.c2, k.c3, consistentMass};
 }
 

@@ -57,8 +57,7 @@ NOX::StatusTest::StatusType DisplacementNormTest::checkStatus(const NOX::Solver:
   if (checkType == NOX::StatusTest::None)
     status_ = NOX::StatusTest::Unevaluated;
   else
-    status_ = (updateNorm_ <= tolerance_ * solutionNorm_) ? NOX::StatusTest::Converged
-                                                          : NOX::StatusTest::Unconverged;
+    status_ = (updateNorm_ <= tolerance_ * solutionNorm_) ? NOX::StatusTest::Converged : NOX::StatusTest::Unconverged;
   return status_;
 }
 
@@ -115,16 +114,17 @@ NOX::StatusTest::StatusType ResidualMagnitudeTest::checkStatus(const NOX::Solver
     return status_;
   }
   const auto& x = dynamic_cast<const NOX::Thyra::Vector&>(group.getX());
-  const auto u = Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getConstTpetraVector(x.getThyraRCPVector());
+  const auto u =
+      Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getConstTpetraVector(x.getThyraRCPVector());
   magnitude_ = model_.residualMagnitude(*u);
   const double normF = group.getNormF();
   ratio_ = magnitude_ > 0 ? normF / magnitude_ : (magnitude_ == 0 && normF == 0 ? 0.0 : -1.0);
   // Stalled: the last Newton iteration did not halve ||R|| (or R vanished).
   const NOX::Abstract::Group& previous = solver.getPreviousSolutionGroup();
-  const bool stalled = normF == 0.0 || (solver.getNumIterations() >= 1 && previous.isF() &&
-                                        normF >= kStagnation * previous.getNormF());
+  const bool stalled =
+      normF == 0.0 || (solver.getNumIterations() >= 1 && previous.isF() && normF >= kStagnation * previous.getNormF());
   status_ = (magnitude_ >= 0 && normF <= tolerance_ * magnitude_ && stalled) ? NOX::StatusTest::Converged
-                                                                              : NOX::StatusTest::Unconverged;
+                                                                             : NOX::StatusTest::Unconverged;
   return status_;
 }
 

@@ -26,12 +26,12 @@ class GatheredDirectInverse::Op : public TpetraOperator {
 
  private:
   using Solver = Amesos2::Solver<CrsMatrix, MultiVector>;
-  RCP<const Map> map_, rowMap_;     // the unknowns' map and P's row map (kept to detect changes)
-  RCP<const Map> rootMap_;          // all of map_'s indices on rank 0
+  RCP<const Map> map_, rowMap_;  // the unknowns' map and P's row map (kept to detect changes)
+  RCP<const Map> rootMap_;       // all of map_'s indices on rank 0
   RCP<const Import> vecImport_, rowImport_;
-  RCP<const Map> serialMap_;        // rank 0: 0..n-1 on a serial communicator
-  RCP<CrsMatrix> serialP_;          // rank 0: P in rootMap_'s order
-  RCP<Solver> solver_;              // rank 0: KLU2 on one process
+  RCP<const Map> serialMap_;  // rank 0: 0..n-1 on a serial communicator
+  RCP<CrsMatrix> serialP_;    // rank 0: P in rootMap_'s order
+  RCP<Solver> solver_;        // rank 0: KLU2 on one process
 };
 
 void GatheredDirectInverse::Op::factor(const RCP<const CrsMatrix>& P) {
@@ -97,9 +97,11 @@ void GatheredDirectInverse::Op::apply(const MultiVector& X, MultiVector& Y, Teuc
   rootX.doImport(X, *vecImport_, Tpetra::INSERT);
   if (!solver_.is_null() && map_->getComm()->getRank() == 0) {
     MultiVector serialX(serialMap_, nv), serialY(serialMap_, nv);
-    Kokkos::deep_copy(serialX.getLocalViewHost(Tpetra::Access::OverwriteAll), rootX.getLocalViewHost(Tpetra::Access::ReadOnly));
+    Kokkos::deep_copy(serialX.getLocalViewHost(Tpetra::Access::OverwriteAll),
+                      rootX.getLocalViewHost(Tpetra::Access::ReadOnly));
     solver_->solve(Teuchos::ptrFromRef(serialY), Teuchos::ptrFromRef(static_cast<const MultiVector&>(serialX)));
-    Kokkos::deep_copy(rootY.getLocalViewHost(Tpetra::Access::OverwriteAll), serialY.getLocalViewHost(Tpetra::Access::ReadOnly));
+    Kokkos::deep_copy(rootY.getLocalViewHost(Tpetra::Access::OverwriteAll),
+                      serialY.getLocalViewHost(Tpetra::Access::ReadOnly));
   }
   if (beta == Teuchos::ScalarTraits<Scalar>::zero()) {
     Y.doExport(rootY, *vecImport_, Tpetra::REPLACE);

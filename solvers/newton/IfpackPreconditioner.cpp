@@ -12,8 +12,7 @@ namespace impm {
 using Teuchos::RCP;
 using Teuchos::rcp;
 
-IfpackPreconditionerCache::IfpackPreconditionerCache(const std::string& type,
-                                                     const Teuchos::ParameterList& params)
+IfpackPreconditionerCache::IfpackPreconditionerCache(const std::string& type, const Teuchos::ParameterList& params)
     : type_(type), params_(params) {
   // Check the type and the parameters now, on a 1x1 matrix over a serial communicator (so this
   // is not collective), rather than at the first time step.
@@ -42,11 +41,10 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   try {
     prec = Ifpack2::Factory::create<RowMatrix>(type, RCP<const RowMatrix>(P));
   } catch (const std::exception& e) {
-    throw std::invalid_argument("invalid value '" + type_ + "' for 'Implicit Solver/Preconditioner' (Ifpack2: " +
-                                e.what() + ")");
+    throw std::invalid_argument("invalid value '" + type_ +
+                                "' for 'Implicit Solver/Preconditioner' (Ifpack2: " + e.what() + ")");
   }
-  if (prec.is_null())
-    throw std::invalid_argument("invalid value '" + type_ + "' for 'Implicit Solver/Preconditioner'");
+  if (prec.is_null()) throw std::invalid_argument("invalid value '" + type_ + "' for 'Implicit Solver/Preconditioner'");
   // Some Ifpack2 preconditioners (Relaxation) validate and fill in the list they are given: hand
   // them a copy so the deck's list stays as written.
   Teuchos::ParameterList copy(params_);
@@ -54,7 +52,8 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   // empty one means KLU2 with its defaults.
   if (type == "AMESOS2" && !copy.isSublist("Amesos2")) copy.sublist("Amesos2");
   if (type == "SCHWARZ" && !avoidAmesosOnEmptyBlock(copy, P->getNodeNumRows() == 0) &&
-      copy.isType<std::string>("subdomain solver name") && copy.get<std::string>("subdomain solver name") == "AMESOS2" &&
+      copy.isType<std::string>("subdomain solver name") &&
+      copy.get<std::string>("subdomain solver name") == "AMESOS2" &&
       !copy.sublist("subdomain solver parameters").isSublist("Amesos2"))
     copy.sublist("subdomain solver parameters").sublist("Amesos2");
   try {

@@ -16,10 +16,9 @@ using Teuchos::rcp;
 using TOE = Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>;
 using ThyraTpetraOp = Thyra::TpetraLinearOp<Scalar, LO, GO, Node>;
 
-ImplicitModelEvaluator::ImplicitModelEvaluator(
-    ResidualModel& model, const RCP<const Map>& map,
-    const RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& W_factory, bool supportsWop,
-    const RCP<PreconditionerCache>& prec)
+ImplicitModelEvaluator::ImplicitModelEvaluator(ResidualModel& model, const RCP<const Map>& map,
+                                               const RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& W_factory,
+                                               bool supportsWop, const RCP<PreconditionerCache>& prec)
     : model_(&model),
       map_(map),
       space_(Thyra::createVectorSpace<Scalar, LO, GO, Node>(map)),

@@ -31,9 +31,7 @@ class ImplicitModelEvaluator : public Thyra::StateFuncModelEvaluatorBase<double>
   Teuchos::RCP<Thyra::LinearOpBase<double>> create_W_op() const override;
   // A Thyra::DefaultPreconditioner; evalModel sets its right operator to the Ifpack2 preconditioner.
   Teuchos::RCP<Thyra::PreconditionerBase<double>> create_W_prec() const override;
-  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> get_W_factory() const override {
-    return W_factory_;
-  }
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> get_W_factory() const override { return W_factory_; }
 
   const Teuchos::RCP<const Map>& map() const { return map_; }
   // Evaluations since construction or the last beginSolve().

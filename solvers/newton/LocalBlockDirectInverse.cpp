@@ -56,8 +56,9 @@ void LocalBlockDirectInverse::factor(const RCP<const CrsMatrix>& P) {
     block_->A = rcp(new CrsMatrix(block_->serialMap, widest));
     for (size_t i = 0; i < n; ++i) {
       std::vector<GO> g(cols.begin() + rowStart[i], cols.begin() + rowStart[i + 1]);
-      block_->A->insertGlobalValues(GO(i), Teuchos::ArrayView<const GO>(g),
-                                    Teuchos::ArrayView<const Scalar>(vals.data() + rowStart[i], rowStart[i + 1] - rowStart[i]));
+      block_->A->insertGlobalValues(
+          GO(i), Teuchos::ArrayView<const GO>(g),
+          Teuchos::ArrayView<const Scalar>(vals.data() + rowStart[i], rowStart[i + 1] - rowStart[i]));
     }
     block_->A->fillComplete();
     block_->rowStart = std::move(rowStart);
@@ -89,7 +90,8 @@ void LocalBlockDirectInverse::apply(const MultiVector& X, MultiVector& Y, Teucho
   }
   const size_t nv = X.getNumVectors();
   MultiVector serialX(block_->serialMap, nv), serialY(block_->serialMap, nv);
-  Kokkos::deep_copy(serialX.getLocalViewHost(Tpetra::Access::OverwriteAll), X.getLocalViewHost(Tpetra::Access::ReadOnly));
+  Kokkos::deep_copy(serialX.getLocalViewHost(Tpetra::Access::OverwriteAll),
+                    X.getLocalViewHost(Tpetra::Access::ReadOnly));
   block_->solver->solve(Teuchos::ptrFromRef(serialY), Teuchos::ptrFromRef(static_cast<const MultiVector&>(serialX)));
   auto y = Y.getLocalViewHost(Tpetra::Access::ReadWrite);
   auto s = serialY.getLocalViewHost(Tpetra::Access::ReadOnly);

@@ -116,7 +116,8 @@ void checkKeys(ParameterList& pl, const std::string& prefix, bool topLevel) {
       continue;
     }
     if (key == "number of equations" || key == "user data")
-      throw std::invalid_argument(at + " is set by impm (the unknowns per grid node; their rigid-body modes and "
+      throw std::invalid_argument(at +
+                                  " is set by impm (the unknowns per grid node; their rigid-body modes and "
                                   "coordinates): remove it");
     const Teuchos::ParameterEntry* m = master.getEntryPtr(key);
     if (m == nullptr) {
@@ -130,7 +131,8 @@ void checkKeys(ParameterList& pl, const std::string& prefix, bool topLevel) {
                                   (best.empty() ? std::string(")") : "; did you mean '" + best + "'?)"));
     }
     if (m->isList() != pl.entry(it).isList())
-      throw std::invalid_argument(at + (m->isList() ? " must be a sublist, not a value" : " must be a value, not a sublist"));
+      throw std::invalid_argument(
+          at + (m->isList() ? " must be a sublist, not a value" : " must be a value, not a sublist"));
     if (!m->isList() && m->isType<double>() && pl.entry(it).isType<int>()) toDouble.push_back(key);
   }
   for (const std::string& key : toDouble) pl.set(key, static_cast<double>(pl.get<int>(key)));
@@ -383,9 +385,10 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     const bool direct = type == "KLU2" || type == "KLU" || type == "Klu" || type == "Klu2";
     if (!direct) return params_;
     if (ownCoarse_)
-      throw std::invalid_argument(kWhere + "/coarse: type' = " + type +
-                                  ": Amesos2 13.2 solves wrongly on more than one MPI rank; leave 'coarse: type' "
-                                  "unset (impm then uses SCHWARZ with ILU(10) of each rank's block) or name an Ifpack2 type");
+      throw std::invalid_argument(
+          kWhere + "/coarse: type' = " + type +
+          ": Amesos2 13.2 solves wrongly on more than one MPI rank; leave 'coarse: type' "
+          "unset (impm then uses SCHWARZ with ILU(10) of each rank's block) or name an Ifpack2 type");
     ParameterList list(params_);
     list.set("coarse: type", "SCHWARZ");
     ParameterList& coarse = list.sublist("coarse: params");
@@ -406,8 +409,8 @@ class MueLuPreconditionerCache : public PreconditionerCache {
     if (!coords.is_null() && (upn == 2 || upn == 3) && (int)coords->getNumVectors() == upn) {
       RCP<MultiVector> nodeCoords = padded->nodeCoordinates(*coords);
       ParameterList& user = list.sublist("user data");
-      user.set<RCP<MultiVector>>("Nullspace", rigidBodyModes(*nodeCoords, padded->map, upn));
-      user.set<RCP<MultiVector>>("Coordinates", nodeCoords);
+      user.set<RCP<MultiVector> >("Nullspace", rigidBodyModes(*nodeCoords, padded->map, upn));
+      user.set<RCP<MultiVector> >("Coordinates", nodeCoords);
     }
     RCP<CrsMatrix> A = padded->pad(*P);
     RCP<MueLuOperator> mueLu = MueLu::CreateTpetraPreconditioner<Scalar, LO, GO, Node>(A, list);
@@ -424,16 +427,16 @@ class MueLuPreconditionerCache : public PreconditionerCache {
   void probe() const {
 #ifdef HAVE_MPI
     // (MueLu 13.2's Hierarchy::describe casts the communicator to Teuchos::MpiComm when built with MPI.)
-    RCP<const Teuchos::Comm<int>> self = rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
+    RCP<const Teuchos::Comm<int> > self = rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
 #else
-    RCP<const Teuchos::Comm<int>> self = rcp(new Teuchos::SerialComm<int>());
+    RCP<const Teuchos::Comm<int> > self = rcp(new Teuchos::SerialComm<int>());
 #endif
     const int nodes = 40, upn = 2, n = nodes * upn;
     std::vector<GO> gids;
     for (GO r = 0; r < n; ++r)
       if (r != 1) gids.push_back(r);
-    auto map = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                           Teuchos::ArrayView<const GO>(gids), 0, self));
+    auto map = rcp(
+        new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), Teuchos::ArrayView<const GO>(gids), 0, self));
     auto A = rcp(new CrsMatrix(map, 3));
     for (GO r : gids) {
       std::vector<GO> cols{r};

@@ -75,7 +75,8 @@ void validateList(ParameterList& pl, const ParameterList& valid) {
       throw std::invalid_argument("unknown key " + where(key) + " (valid here: " + keys + ")");
     }
     if (ve->isList() != entry.isList())
-      throw std::invalid_argument(where(key) + (ve->isList() ? " must be a sublist, not a value" : " must be a value, not a sublist"));
+      throw std::invalid_argument(
+          where(key) + (ve->isList() ? " must be a sublist, not a value" : " must be a value, not a sublist"));
     if (ve->isList()) continue;
     const RCP<const Teuchos::ParameterEntryValidator> validator = ve->validator();
     if (validator.is_null()) continue;
@@ -86,7 +87,8 @@ void validateList(ParameterList& pl, const ParameterList& valid) {
       RCP<const Teuchos::Array<std::string>> strings = validator->validStringValues();
       if (!strings.is_null()) {
         msg += " (valid: ";
-        for (Teuchos::Array<std::string>::size_type k = 0; k < strings->size(); ++k) msg += (k ? ", " : "") + (*strings)[k];
+        for (Teuchos::Array<std::string>::size_type k = 0; k < strings->size(); ++k)
+          msg += (k ? ", " : "") + (*strings)[k];
         msg += ")";
       } else {
         msg += " (expected a " + std::string(ve->getAny().typeName()) + ")";
@@ -157,7 +159,8 @@ RCP<const ParameterList> newtonValidParameters() {
           "Polynomial (quadratic then cubic interpolation until the Armijo condition holds; one more J v product "
           "per Newton iteration for the slope); More-Thuente (cubic interpolation until the strong Wolfe "
           "conditions hold). The convergence tests judge the full Newton direction, not the damped step",
-          rcp(new Teuchos::StringValidator(Teuchos::tuple<std::string>("Full Step", "Backtrack", "Polynomial", "More-Thuente"))));
+          rcp(new Teuchos::StringValidator(
+              Teuchos::tuple<std::string>("Full Step", "Backtrack", "Polynomial", "More-Thuente"))));
   pl->set("Line Search Iterations", 8,
           "the most trial steps of one line search (Backtrack, Polynomial, More-Thuente); when none is accepted the "
           "full step is taken",
@@ -199,7 +202,8 @@ RCP<const ParameterList> newtonValidParameters() {
               "equations' (the dimension) and the near-null space (rigid-body modes) itself")
       .disableRecursiveValidation();
   pl->sublist("NOX", false,
-              "passed to NOX (defaults: Line Search Based, the 'Line Search' above, Newton with a constant forcing term, errors "
+              "passed to NOX (defaults: Line Search Based, the 'Line Search' above, Newton with a constant forcing "
+              "term, errors "
               "printed only, Complete status test checks); these keys win over the derived ones")
       .disableRecursiveValidation();
   pl->sublist("Stratimikos", false,
@@ -219,9 +223,11 @@ namespace {
 
 // The mode, the preconditioner and the tolerances, each checked.
 void readTolerances(const ParameterList& pl, NewtonSettings& s) {
-  s.jacobian = Teuchos::getIntegralValue<int>(pl, "Jacobian") == 0 ? NewtonSettings::JacobianMode::JacobianFree : NewtonSettings::JacobianMode::Assembled;
-  s.assembledSolver =
-      Teuchos::getIntegralValue<int>(pl, "Assembled Linear Solver") == 0 ? NewtonSettings::AssembledSolver::Amesos2 : NewtonSettings::AssembledSolver::Belos;
+  s.jacobian = Teuchos::getIntegralValue<int>(pl, "Jacobian") == 0 ? NewtonSettings::JacobianMode::JacobianFree
+                                                                   : NewtonSettings::JacobianMode::Assembled;
+  s.assembledSolver = Teuchos::getIntegralValue<int>(pl, "Assembled Linear Solver") == 0
+                          ? NewtonSettings::AssembledSolver::Amesos2
+                          : NewtonSettings::AssembledSolver::Belos;
   s.preconditioner = pl.get<std::string>("Preconditioner");
   s.displacementTol = positive(pl, "Displacement Tolerance");
   s.energyTol = positive(pl, "Energy Tolerance");
@@ -230,9 +236,11 @@ void readTolerances(const ParameterList& pl, NewtonSettings& s) {
     throw std::invalid_argument(where("Residual Tolerance") + " must be non-negative (got " + sci(s.residualTol) + ")");
   s.magnitudeTol = pl.get<double>("Residual Magnitude Tolerance");
   if (!(s.magnitudeTol >= 0) || !(s.magnitudeTol < 1))
-    throw std::invalid_argument(where("Residual Magnitude Tolerance") + " must be in [0, 1) (got " + sci(s.magnitudeTol) + ")");
+    throw std::invalid_argument(where("Residual Magnitude Tolerance") + " must be in [0, 1) (got " +
+                                sci(s.magnitudeTol) + ")");
   s.linearTol = positive(pl, "Linear Tolerance");
-  if (s.linearTol >= 1) throw std::invalid_argument(where("Linear Tolerance") + " must be below 1 (got " + sci(s.linearTol) + ")");
+  if (s.linearTol >= 1)
+    throw std::invalid_argument(where("Linear Tolerance") + " must be below 1 (got " + sci(s.linearTol) + ")");
   s.maxNewton = positiveInt(pl, "Maximum Newton Iterations");
   s.maxKrylov = positiveInt(pl, "Maximum Krylov Iterations");
 }
@@ -255,7 +263,6 @@ void deriveJacobianFreeOperator(const ParameterList& pl, NewtonSettings& s) {
       throw std::invalid_argument(where("Jacobian-Free Operator/Difference Type") +
                                   " must be Forward (Central differences are broken in Trilinos 13.2)");
   }
-
 }
 
 // Stratimikos: the linear solver. Our derived settings are defaults; the deck's keys win.
@@ -263,11 +270,13 @@ void deriveStratimikos(const ParameterList& pl, NewtonSettings& s) {
   const bool direct = s.direct();
   s.stratimikos = rcp(new ParameterList(pl.sublist("Stratimikos")));
   const std::string lsType = direct ? "Amesos2" : "Belos";
-  if (s.stratimikos->isParameter("Linear Solver Type") && s.stratimikos->get<std::string>("Linear Solver Type") != lsType) {
-    throw std::invalid_argument(
-        where("Stratimikos/Linear Solver Type") + " = " + s.stratimikos->get<std::string>("Linear Solver Type") +
-        (s.jacobian == NewtonSettings::JacobianMode::JacobianFree ? " cannot solve with a Jacobian-free operator: use Belos"
-                                                 : " contradicts " + where("Assembled Linear Solver") + " = " + lsType));
+  if (s.stratimikos->isParameter("Linear Solver Type") &&
+      s.stratimikos->get<std::string>("Linear Solver Type") != lsType) {
+    throw std::invalid_argument(where("Stratimikos/Linear Solver Type") + " = " +
+                                s.stratimikos->get<std::string>("Linear Solver Type") +
+                                (s.jacobian == NewtonSettings::JacobianMode::JacobianFree
+                                     ? " cannot solve with a Jacobian-free operator: use Belos"
+                                     : " contradicts " + where("Assembled Linear Solver") + " = " + lsType));
   }
   s.stratimikos->set("Linear Solver Type", lsType);
   setDefault(*s.stratimikos, "Preconditioner Type", "None");
@@ -317,7 +326,9 @@ void deriveNox(const ParameterList& pl, NewtonSettings& s) {
   setDefault(nox.sublist("Direction"), "Method", "Newton");
   ParameterList& newton = nox.sublist("Direction").sublist("Newton");
   setDefault(newton, "Forcing Term Method", "Constant");
-  const double linTol = s.jacobian == NewtonSettings::JacobianMode::JacobianFree ? s.linearTol : std::min(s.linearTol, kAssembledBelosTolerance);
+  const double linTol = s.jacobian == NewtonSettings::JacobianMode::JacobianFree
+                            ? s.linearTol
+                            : std::min(s.linearTol, kAssembledBelosTolerance);
   setDefault(newton.sublist("Linear Solver"), "Tolerance", linTol);
   setDefault(nox.sublist("Printing"), "Output Information", static_cast<int>(NOX::Utils::Error));
   setDefault(nox.sublist("Solver Options"), "Status Test Check Type", "Complete");

@@ -82,7 +82,6 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
   }
 }
 
-
 // What solve() keeps between calls while the model and its unknown map are unchanged.
 struct NewtonSolver::NoxSetUp {
   const ResidualModel* model = nullptr;  // compared by address only
@@ -147,8 +146,10 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
   const auto beforeReduction = clock::now();
   result.reusedSetUp = canReuse(model, *map, gathered);
   const auto afterReduction = clock::now();
-  if (result.reusedSetUp) resetSetUp(u);
-  else buildSetUp(model, map, u, gathered, lows, prec);
+  if (result.reusedSetUp)
+    resetSetUp(u);
+  else
+    buildSetUp(model, map, u, gathered, lows, prec);
   NoxSetUp& s = *nox_;
   const auto beforeF = clock::now();
   s.group->computeF();  // the matrix-free operator needs F at the base point
@@ -174,9 +175,11 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
     const size_t reason = what.rfind("\n", what.find_last_not_of("\n "));
     result.converged = false;
     result.newtonIterations = s.solver->getNumIterations();
-    result.reason = "failed after " + std::to_string(result.newtonIterations) + " Newton iterations: the linear solve broke down (" +
-                    what.substr(reason == std::string::npos ? 0 : reason + 1, what.find_last_not_of("\n ") + 1 -
-                                (reason == std::string::npos ? 0 : reason + 1)) + ")";
+    result.reason = "failed after " + std::to_string(result.newtonIterations) +
+                    " Newton iterations: the linear solve broke down (" +
+                    what.substr(reason == std::string::npos ? 0 : reason + 1,
+                                what.find_last_not_of("\n ") + 1 - (reason == std::string::npos ? 0 : reason + 1)) +
+                    ")";
     result.residualEvaluations = s.me->residualEvaluations();
     result.jacobianEvaluations = s.me->jacobianEvaluations();
     result.solveSeconds = seconds(start, clock::now());
@@ -186,8 +189,8 @@ NewtonResult NewtonSolver::solve(ResidualModel& model, Vector& u) {
   // Copy the last iterate back, and report.
   const NOX::Abstract::Group& soln = s.solver->getSolutionGroup();
   const auto& xs = dynamic_cast<const NOX::Thyra::Vector&>(soln.getX());
-  Tpetra::deep_copy(u, *Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getConstTpetraVector(
-                           xs.getThyraRCPVector()));
+  Tpetra::deep_copy(
+      u, *Thyra::TpetraOperatorVectorExtraction<Scalar, LO, GO, Node>::getConstTpetraVector(xs.getThyraRCPVector()));
   result.converged = status == NOX::StatusTest::Converged;
   result.newtonIterations = s.solver->getNumIterations();
   result.krylovIterations = s.observer->iterations;
@@ -221,13 +224,15 @@ void NewtonSolver::buildSetUp(ResidualModel& model, const RCP<const Map>& map, c
     ParameterList print;
     print.set("Output Information", static_cast<int>(NOX::Utils::Error));
     s->jfnkOp = rcp(new NOX::Thyra::MatrixFreeJacobianOperator<double>(print));
-    s->jfnkOp->setParameterList(rcp(new ParameterList(*settings_.jacobianFreeOperator)));  // before setBaseEvaluationToNOXGroup
+    s->jfnkOp->setParameterList(
+        rcp(new ParameterList(*settings_.jacobianFreeOperator)));  // before setBaseEvaluationToNOXGroup
     RCP<Thyra::ModelEvaluator<double>> decorated = rcp(new NOX::MatrixFreeModelEvaluatorDecorator<double>(s->me));
     RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : decorated->create_W_prec();
     s->group = rcp(new NOX::Thyra::Group(noxX0, decorated, s->jfnkOp, lows, precOp, Teuchos::null, Teuchos::null));
   } else {
     RCP<Thyra::PreconditionerBase<double>> precOp = prec.is_null() ? Teuchos::null : s->me->create_W_prec();
-    s->group = rcp(new NOX::Thyra::Group(noxX0, s->me, s->me->create_W_op(), lows, precOp, Teuchos::null, Teuchos::null));
+    s->group =
+        rcp(new NOX::Thyra::Group(noxX0, s->me, s->me->create_W_op(), lows, precOp, Teuchos::null, Teuchos::null));
   }
   nox_ = std::move(s);
   ++setUpBuilds_;
@@ -286,20 +291,22 @@ std::string NewtonSolver::describeOutcome(const NewtonResult& result, int status
   std::ostringstream why;
   const std::string its = " after " + std::to_string(result.newtonIterations) + " Newton iteration" +
                           (result.newtonIterations == 1 ? "" : "s");
-  const std::string values = "||R|| = " + sci(result.finalResidualNorm) + ", ||du||/||u|| = " +
-                             sci(result.displacementNorm) + ", energy ratio = " + sci(result.energyNorm) +
-                             (s.magnitude.is_null() ? std::string() : ", ||R||/S = " + sci(result.residualMagnitudeRatio));
+  const std::string values =
+      "||R|| = " + sci(result.finalResidualNorm) + ", ||du||/||u|| = " + sci(result.displacementNorm) +
+      ", energy ratio = " + sci(result.energyNorm) +
+      (s.magnitude.is_null() ? std::string() : ", ||R||/S = " + sci(result.residualMagnitudeRatio));
   if (result.converged) {
     if (s.normF->getStatus() == NOX::StatusTest::Converged)
       why << "converged" << its << ": ||R|| = " << sci(result.finalResidualNorm) << " < Residual Tolerance "
           << sci(settings_.residualTol);
     else if (!s.magnitude.is_null() && s.magnitude->getStatus() == NOX::StatusTest::Converged)
-      why << "converged" << its << ": ||R|| = " << sci(result.finalResidualNorm) << " <= " << sci(settings_.magnitudeTol)
-          << " x its magnitude " << sci(s.magnitude->magnitude()) << " and no longer falling (round-off floor)";
+      why << "converged" << its << ": ||R|| = " << sci(result.finalResidualNorm)
+          << " <= " << sci(settings_.magnitudeTol) << " x its magnitude " << sci(s.magnitude->magnitude())
+          << " and no longer falling (round-off floor)";
     else
-      why << "converged" << its << ": ||du||/||u|| = " << sci(result.displacementNorm) << " <= "
-          << sci(settings_.displacementTol) << " and energy ratio = " << sci(result.energyNorm) << " <= "
-          << sci(settings_.energyTol);
+      why << "converged" << its << ": ||du||/||u|| = " << sci(result.displacementNorm)
+          << " <= " << sci(settings_.displacementTol) << " and energy ratio = " << sci(result.energyNorm)
+          << " <= " << sci(settings_.energyTol);
   } else if (s.finite->getStatus() == NOX::StatusTest::Failed) {
     why << "failed" << its << ": the residual is not finite (NaN or Inf)";
   } else if (s.maxIters->getStatus() == NOX::StatusTest::Failed) {

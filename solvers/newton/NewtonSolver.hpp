@@ -55,8 +55,8 @@ struct NewtonResult {
   double residualMagnitudeRatio = -1;
   std::string reason;  // why it stopped, human readable
   // Cost accounting (same on every rank).
-  int residualEvaluations = 0;  // calls of ResidualModel::residual (J-free products included)
-  int jacobianEvaluations = 0;  // calls of ResidualModel::jacobianMatrix
+  int residualEvaluations = 0;            // calls of ResidualModel::residual (J-free products included)
+  int jacobianEvaluations = 0;            // calls of ResidualModel::jacobianMatrix
   int preconditionerInitializations = 0;  // Ifpack2 initialize() calls (symbolic setup)
   // Building (or, when reused, resetting) the model evaluator, NOX group, status tests and solver;
   // excludes the residual at the initial guess and the one reduction that decides on reuse (on several
@@ -96,7 +96,7 @@ class NewtonSolver {
   Teuchos::RCP<Teuchos::ParameterList> params_;
   NewtonSettings settings_;
   Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lowsFactory_;
-  Teuchos::RCP<PreconditionerCache> prec_;                  // Ifpack2 or MueLu; null for "None" / direct solves
+  Teuchos::RCP<PreconditionerCache> prec_;  // Ifpack2 or MueLu; null for "None" / direct solves
   // Assembled + Amesos2 on more than one rank: Amesos2 13.2's KLU2 gives wrong solutions once the
   // matrix is distributed (its gathered-matrix path), so P is gathered to rank 0 and factored there by
   // KLU2 on a serial communicator; that exact inverse preconditions a Belos fixed point iteration

@@ -49,8 +49,15 @@ void HistoryOutput::fail(const RunFailure& failure, RunResult& r) {
 ParticleOutput::ParticleOutput(ParticleSet& particles, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
                                const std::string& dir, bool restarted, int vtkInterval, int historyInterval, int steps,
                                double dt)
-    : particles_(particles), comm_(comm), dir_(dir), restarted_(restarted), vtkInterval_(vtkInterval),
-      historyInterval_(historyInterval), steps_(steps), dt_(dt), pvd_(dir + "/particles.pvd", comm->getSize()),
+    : particles_(particles),
+      comm_(comm),
+      dir_(dir),
+      restarted_(restarted),
+      vtkInterval_(vtkInterval),
+      historyInterval_(historyInterval),
+      steps_(steps),
+      dt_(dt),
+      pvd_(dir + "/particles.pvd", comm->getSize()),
       keepGoodState_(!particles.fixedPositions()) {}
 
 std::string ParticleOutput::write(const ParticleSet& ps, double t) {
@@ -73,7 +80,8 @@ void ParticleOutput::relistRestartedFiles(int firstStep) {
     std::snprintf(stem, sizeof stem, "particles_%05d", count_++);
     rethrowOnEveryRank(*comm_, comm_->getRank() == 0, [&] {
       bool present = true;
-      for (int q = 0; q < comm_->getSize(); ++q) present = present && fs::exists(dir_ + "/" + PvdIndex::pieceName(stem, q));
+      for (int q = 0; q < comm_->getSize(); ++q)
+        present = present && fs::exists(dir_ + "/" + PvdIndex::pieceName(stem, q));
       if (present) pvd_.add(m * dt_, stem);
     });
   }
@@ -84,7 +92,8 @@ void ParticleOutput::keepState(double t, int step) {
   if ((int)everyParticle_.extent(0) != particles_.count) {
     everyParticle_ = ParticleSet::Ids("every_particle", particles_.count);
     auto all = everyParticle_;
-    Kokkos::parallel_for("iota", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count), KOKKOS_LAMBDA(int p) { all(p) = p; });
+    Kokkos::parallel_for(
+        "iota", Kokkos::RangePolicy<ExecutionSpace>(0, particles_.count), KOKKOS_LAMBDA(int p) { all(p) = p; });
   }
   if ((int)goodState_.extent(0) != particles_.count || (int)goodState_.extent(1) != particles_.packedWidth())
     goodState_ = ParticleSet::Packed(Kokkos::view_alloc(Kokkos::WithoutInitializing, "good_state"), particles_.count,
@@ -113,8 +122,10 @@ std::string ParticleOutput::writeGoodState() {
 }
 
 void ParticleOutput::begin(const RunPoint& first, RunResult&) {
-  if (restarted_) relistRestartedFiles(first.step);
-  else write(particles_, 0.0);
+  if (restarted_)
+    relistRestartedFiles(first.step);
+  else
+    write(particles_, 0.0);
   keepState(first.t, first.step);
 }
 

@@ -55,10 +55,18 @@ class RunObservers {
     list_.push_back(std::move(observer));
     return ref;
   }
-  void begin(const RunPoint& p, RunResult& r) { for (auto& o : list_) o->begin(p, r); }
-  void afterStep(const RunPoint& p, RunResult& r) { for (auto& o : list_) o->afterStep(p, r); }
-  void end(const RunPoint& p, RunResult& r) { for (auto& o : list_) o->end(p, r); }
-  void fail(const RunFailure& f, RunResult& r) { for (auto& o : list_) o->fail(f, r); }
+  void begin(const RunPoint& p, RunResult& r) {
+    for (auto& o : list_) o->begin(p, r);
+  }
+  void afterStep(const RunPoint& p, RunResult& r) {
+    for (auto& o : list_) o->afterStep(p, r);
+  }
+  void end(const RunPoint& p, RunResult& r) {
+    for (auto& o : list_) o->end(p, r);
+  }
+  void fail(const RunFailure& f, RunResult& r) {
+    for (auto& o : list_) o->fail(f, r);
+  }
 
  private:
   std::vector<std::unique_ptr<RunObserver>> list_;
@@ -69,7 +77,12 @@ class RunObservers {
 class HistoryOutput : public RunObserver {
  public:
   HistoryOutput(History& history, bool restarted, const NamedArrays& restartState, int interval, int steps, double dt)
-      : history_(history), restarted_(restarted), restartState_(restartState), interval_(interval), steps_(steps), dt_(dt) {}
+      : history_(history),
+        restarted_(restarted),
+        restartState_(restartState),
+        interval_(interval),
+        steps_(steps),
+        dt_(dt) {}
   void begin(const RunPoint& first, RunResult& r) override;
   void afterStep(const RunPoint& done, RunResult& r) override;
   void end(const RunPoint& last, RunResult& r) override;
@@ -155,7 +168,8 @@ class ProgressLine : public RunObserver {
 class SummaryOutput : public RunObserver {
  public:
   using Writer = std::function<void(const RunResult& r)>;
-  SummaryOutput(const Teuchos::RCP<const Teuchos::Comm<int>>& comm, Writer writer) : comm_(comm), writer_(std::move(writer)) {}
+  SummaryOutput(const Teuchos::RCP<const Teuchos::Comm<int>>& comm, Writer writer)
+      : comm_(comm), writer_(std::move(writer)) {}
   void end(const RunPoint&, RunResult& r) override { write(r); }
   void fail(const RunFailure&, RunResult& r) override { write(r); }
 

@@ -30,8 +30,9 @@ int main(int argc, char** argv) {
     impm::validateDeck(*deck);
     impm::Simulation sim(*deck, comm, outputDir);
     const impm::RunResult r = sim.run(std::cout);
-    if (root) std::cout << "impm_consumer: run " << r.status << " after " << r.steps << " steps, " << r.particles
-                        << " particles, output in " << sim.outputDirectory() << "\n";
+    if (root)
+      std::cout << "impm_consumer: run " << r.status << " after " << r.steps << " steps, " << r.particles
+                << " particles, output in " << sim.outputDirectory() << "\n";
     return r.status == "completed" ? 0 : 1;
   } catch (const std::exception& e) {
     if (root) std::cerr << "impm_consumer: error: " << e.what() << "\n";
