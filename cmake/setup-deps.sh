@@ -20,8 +20,9 @@ log() { printf '[impm setup] %s\n' "$*"; }
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 
-# Debian packages: compilers, MPI, BLAS/LAPACK, build tools and the plotting stack.
-PACKAGES=(build-essential cmake ninja-build pkg-config libopenmpi-dev openmpi-bin
+# Debian packages: compilers, MPI, BLAS/LAPACK, build tools (clang-format-14 for the format
+# check), and the plotting stack.
+PACKAGES=(build-essential cmake ninja-build pkg-config clang-format-14 libopenmpi-dev openmpi-bin
           libblas-dev liblapack-dev python3 python3-matplotlib python3-numpy python3-yaml ca-certificates)
 missing=()
 for p in "${PACKAGES[@]}"; do
