@@ -36,41 +36,41 @@ struct BlockMatrices {
 namespace detail {
 // K(k) += w B^T D B for node gradients grad[a][d] of the block's nodes (nn of them), with the
 // material tangent D on the Voigt strains of StressLayout<Dim> (engineering shears).
+// B_a[v][c], strain component v = (i, j) from displacement component c of node a, is grad_a[j] at
+// c = i, grad_a[i] at c = j (a shear) and zero elsewhere. The sums over v skip those zeros and keep
+// the order of v, so K is what the dense products B_b^T (D B_a) give, bit for bit.
 template <int Dim, class KView>
 KOKKOS_INLINE_FUNCTION void addBtDB(const KView& K, int k, int nn, const double (*grad)[Dim], double w,
                                     const double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) {
   using SL = StressLayout<Dim>;
   constexpr int nv = SL::voigt;
   for (int a = 0; a < nn; ++a) {
-    // B_a[v][c]: strain component v from displacement component c of node a.
-    double Ba[nv][Dim];
-    for (int v = 0; v < nv; ++v)
-      for (int c = 0; c < Dim; ++c) {
-        const int i = SL::first(v), j = SL::second(v);
-        Ba[v][c] = (c == i ? grad[a][j] : 0.0) + (i != j && c == j ? grad[a][i] : 0.0);
-      }
-    // D B_a
-    double DB[nv][Dim];
+    double DB[nv][Dim];  // D B_a
     for (int r = 0; r < nv; ++r)
       for (int c = 0; c < Dim; ++c) {
         double sum = 0;
-        for (int v = 0; v < nv; ++v) sum += D[r][v] * Ba[v][c];
+        for (int v = 0; v < nv; ++v) {
+          const int i = SL::first(v), j = SL::second(v);
+          if (c == i)
+            sum += D[r][v] * grad[a][j];
+          else if (c == j)
+            sum += D[r][v] * grad[a][i];
+        }
         DB[r][c] = sum;
       }
     for (int b = 0; b < nn; ++b)
-      for (int rb = 0; rb < Dim; ++rb) {
-        // row rb of B_b^T: B_b[v][rb]
-        double Bb[nv];
-        for (int v = 0; v < nv; ++v) {
-          const int i = SL::first(v), j = SL::second(v);
-          Bb[v] = (rb == i ? grad[b][j] : 0.0) + (i != j && rb == j ? grad[b][i] : 0.0);
-        }
+      for (int rb = 0; rb < Dim; ++rb)
         for (int c = 0; c < Dim; ++c) {
-          double sum = 0;
-          for (int v = 0; v < nv; ++v) sum += Bb[v] * DB[v][c];
+          double sum = 0;  // row rb of B_b^T times column c of D B_a
+          for (int v = 0; v < nv; ++v) {
+            const int i = SL::first(v), j = SL::second(v);
+            if (rb == i)
+              sum += grad[b][j] * DB[v][c];
+            else if (rb == j)
+              sum += grad[b][i] * DB[v][c];
+          }
           K(k, Dim * b + rb, Dim * a + c) += w * sum;
         }
-      }
   }
 }
 }  // namespace detail
@@ -163,8 +163,11 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
   for (int d = 0; d < Dim; ++d) bnd[d] = bn < g.cells(d) + 1 ? bn : g.cells(d) + 1;
   for (int d = 0; d < 3; ++d) out.blockNodes[d] = bnd[d];
   const int nn = bnd[0] * bnd[1] * bnd[2], nd = Dim * nn;
-  out.origin = decltype(out.origin)("stencil_block_origin", ps.count, Dim);
-  out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>("stencil_stiffness", ps.count, nd, nd);
+  // Not zeroed here: the kernel writes every origin and zeroes each block before summing into it.
+  out.origin =
+      decltype(out.origin)(Kokkos::view_alloc("stencil_block_origin", Kokkos::WithoutInitializing), ps.count, Dim);
+  out.K = Kokkos::View<double***, Kokkos::LayoutRight, DeviceType>(
+      Kokkos::view_alloc("stencil_stiffness", Kokkos::WithoutInitializing), ps.count, nd, nd);
   auto O = out.origin;
   auto K = out.K;
   auto x = ps.x;

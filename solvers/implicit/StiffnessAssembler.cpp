@@ -199,14 +199,18 @@ void StiffnessAssembler<Dim>::sumBlocksSequential(const BlockMatrices& Kb) const
   const long ndd = long(nd_) * nd_;
   if (Kb.count > 0 && long(Kb.K.extent(1)) * long(Kb.K.extent(2)) != ndd)
     throw std::logic_error("StiffnessAssembler: the stiffness blocks do not match the assembler's block size");
+  if (!K.span_is_contiguous()) throw std::logic_error("StiffnessAssembler: the stiffness blocks are not contiguous");
   Kokkos::deep_copy(hv, 0.0);
+  double* sum = hv.data();
+  const double* blockValues = K.data();  // LayoutRight: block k's ndd values, row after row, at k ndd
   for (int k = 0; k < Kb.count; ++k) {
     const long b = blocks_.index(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0);
     if (b < 0 || b >= blocks_.size())
       throw std::logic_error("StiffnessAssembler: a stiffness block starts outside the rank's block grid");
     const long* off = &offsets(b * ndd);
+    const double* Kk = blockValues + k * ndd;
     for (long rc = 0; rc < ndd; ++rc)
-      if (off[rc] >= 0) hv(off[rc]) += K(k, rc / nd_, rc % nd_);
+      if (off[rc] >= 0) sum[off[rc]] += Kk[rc];
   }
   Kokkos::deep_copy(values, hv);
 }
