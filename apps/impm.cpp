@@ -73,6 +73,9 @@ int main(int argc, char** argv) {
     }
   }
   impm::flushSubnormalsToZero();  // before Kokkos starts its threads, which inherit it
+  // Started without mpiexec, impm is an MPI singleton, beside which Open MPI would start an orted
+  // daemon (about 0.15 s) unless told that the process stays alone; impm spawns no processes.
+  if (!std::getenv("OMPI_COMM_WORLD_SIZE")) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;

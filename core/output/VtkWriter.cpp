@@ -1,11 +1,80 @@
 #include "core/output/VtkWriter.hpp"
 
+#include <charconv>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <stdexcept>
+#include <vector>
 
 namespace impm {
+
+namespace {
+
+// "%.10g" into [first, last), which holds at least 32 characters; returns the end of the text.
+char* writeNumber(char* first, char* last, double value) {
+  return std::to_chars(first, last, value, std::chars_format::general, 10).ptr;
+}
+
+// The file's text, built in a buffer and written out in pieces of about a megabyte.
+class VtuText {
+ public:
+  explicit VtuText(std::ofstream& file) : file_(file), buffer_(kFlushBytes + kLongest) {}
+  ~VtuText() { flush(); }
+  VtuText& operator<<(const char* s) {
+    const size_t n = std::strlen(s);
+    if (used_ + n > buffer_.size()) flush();
+    if (n > buffer_.size()) {
+      file_.write(s, std::streamsize(n));
+      return *this;
+    }
+    std::memcpy(buffer_.data() + used_, s, n);
+    used_ += n;
+    return *this;
+  }
+  VtuText& operator<<(char c) {
+    room(1);
+    buffer_[used_++] = c;
+    return *this;
+  }
+  VtuText& operator<<(double value) {
+    room(kNumber);
+    used_ = size_t(writeNumber(buffer_.data() + used_, buffer_.data() + buffer_.size(), value) - buffer_.data());
+    return *this;
+  }
+  VtuText& operator<<(long value) {
+    room(kNumber);
+    used_ = size_t(std::to_chars(buffer_.data() + used_, buffer_.data() + buffer_.size(), value).ptr - buffer_.data());
+    return *this;
+  }
+  VtuText& operator<<(int value) { return *this << long(value); }
+  // Ends a particle's line, writing the text out once it has grown past the piece size.
+  void endLine() {
+    *this << '\n';
+    if (used_ >= kFlushBytes) flush();
+  }
+  void flush() {
+    file_.write(buffer_.data(), std::streamsize(used_));
+    used_ = 0;
+  }
+
+ private:
+  static constexpr size_t kFlushBytes = size_t(1) << 20, kLongest = 4096, kNumber = 32;
+  void room(size_t n) {
+    if (used_ + n > buffer_.size()) flush();
+  }
+  std::ofstream& file_;
+  std::vector<char> buffer_;
+  size_t used_ = 0;
+};
+
+}  // namespace
+
+void appendNumber(std::string& text, double value) {
+  char digits[32];
+  text.append(digits, writeNumber(digits, digits + sizeof digits, value));
+}
 
 void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
@@ -22,23 +91,38 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
   const int n = ps.count, dim = ps.dim, ns = ps.stressCount();
   const std::string tmp = path + ".tmp";
   {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error("cannot write " + path);
-    f << std::setprecision(10);
+    std::ofstream file(tmp, std::ios::binary);
+    if (!file) throw std::runtime_error("cannot write " + path);
+    VtuText f(file);
     f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n";
     f << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << x(p, 0) << ' ' << x(p, 1) << ' ' << (dim == 3 ? x(p, 2) : 0.0) << '\n';
+    for (int p = 0; p < n; ++p) {
+      f << x(p, 0) << ' ' << x(p, 1) << ' ' << (dim == 3 ? x(p, 2) : 0.0);
+      f.endLine();
+    }
     f << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << p << '\n';
+    for (int p = 0; p < n; ++p) {
+      f << p;
+      f.endLine();
+    }
     f << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << p + 1 << '\n';
+    for (int p = 0; p < n; ++p) {
+      f << p + 1;
+      f.endLine();
+    }
     f << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << "1\n";  // VTK_VERTEX
+    for (int p = 0; p < n; ++p) {
+      f << '1';  // VTK_VERTEX
+      f.endLine();
+    }
     f << "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">\n";
     auto vec3 = [&](const char* name, auto get) {
       f << "<DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-      for (int p = 0; p < n; ++p) f << get(p, 0) << ' ' << get(p, 1) << ' ' << (dim == 3 ? get(p, 2) : 0.0) << '\n';
+      for (int p = 0; p < n; ++p) {
+        f << get(p, 0) << ' ' << get(p, 1) << ' ' << (dim == 3 ? get(p, 2) : 0.0);
+        f.endLine();
+      }
       f << "</DataArray>\n";
     };
     vec3("displacement", [&](int p, int d) { return fixed ? u(p, d) : x(p, d) - x0(p, d); });
@@ -56,21 +140,24 @@ void writeParticlesVtu(const std::string& path, const ParticleSet& ps) {
     f << " format=\"ascii\">\n";
     for (int p = 0; p < n; ++p) {
       for (int c = 0; c < ns; ++c) f << (c ? " " : "") << s(p, order[c]);
-      f << '\n';
+      f.endLine();
     }
-    f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"mass\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << m(p) << '\n';
-    f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"volume\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << V(p) << '\n';
+    auto scalars = [&](const char* name, auto get) {
+      f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
+      for (int p = 0; p < n; ++p) {
+        f << get(p);
+        f.endLine();
+      }
+    };
+    scalars("mass", [&](int p) { return m(p); });
+    scalars("volume", [&](int p) { return V(p); });
     // det F = V / V0 (1 for the FE reference's fixed Gauss points), and the J2 equivalent
     // plastic strain when a material has history.
-    f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"det_F\" format=\"ascii\">\n";
-    for (int p = 0; p < n; ++p) f << (fixed ? 1.0 : V(p) / V0(p)) << '\n';
-    if (ps.hasHistory()) {
-      f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"plastic_strain\" format=\"ascii\">\n";
-      for (int p = 0; p < n; ++p) f << hist(p, ParticleSet::kHistoryCount - 1) << '\n';
-    }
+    scalars("det_F", [&](int p) { return fixed ? 1.0 : V(p) / V0(p); });
+    if (ps.hasHistory()) scalars("plastic_strain", [&](int p) { return hist(p, ParticleSet::kHistoryCount - 1); });
     f << "</DataArray>\n</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    f.flush();
+    if (!file) throw std::runtime_error("cannot write " + path);
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write " + path);
 }

@@ -12,6 +12,12 @@ namespace impm {
 // acceleration, stress (xx, yy, xy, zz), mass and volume.
 void writeParticlesVtu(const std::string& path, const ParticleSet& ps);
 
+// Appends `value` as printf's "%.10g" writes it (std::to_chars with that precision: the same
+// text, without the stream and locale machinery, which cost about ten times as much per number).
+// A subnormal number is written as a signed zero while subnormals are flushed (impm's state holds
+// none: core/FloatingPoint.hpp).
+void appendNumber(std::string& text, double value);
+
 // The .pvd index: one DataSet per (time, rank piece). Rewritten whole on every add so that a
 // run that stops early still leaves a readable index.
 class PvdIndex {
