@@ -140,6 +140,7 @@ TEUCHOS_UNIT_TEST(VtkWriter, FileHoldsEveryParticle) {
   TEST_EQUALITY(velocity.size(), size_t(3 * n));
   TEST_EQUALITY(stress.size(), size_t(4 * n));
   TEST_EQUALITY(mass.size(), size_t(n));
+  if (!success) return;  // a short array: the comparisons below would read past it
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.x);
   auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.v);
   auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.stress);
