@@ -73,9 +73,11 @@ int main(int argc, char** argv) {
     }
   }
   impm::flushSubnormalsToZero();  // before Kokkos starts its threads, which inherit it
-  // Started without mpiexec, impm is an MPI singleton, beside which Open MPI would start an orted
-  // daemon (about 0.15 s) unless told that the process stays alone; impm spawns no processes.
-  if (!std::getenv("OMPI_COMM_WORLD_SIZE")) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  // Started without a launcher (mpiexec, or srun's PMI/PMIx), impm is an MPI singleton, beside
+  // which Open MPI would start an orted daemon (about 0.13 s) unless told that the process stays
+  // alone; impm spawns no processes.
+  if (!std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMIX_RANK") && !std::getenv("PMI_RANK"))
+    setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   Tpetra::ScopeGuard scope(&argc, &argv);
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
