@@ -43,7 +43,10 @@ def apply(deck, overrides):
 
 def dump(deck):
     """The deck as YAML text, in a stable form (its hash identifies a run)."""
-    return "%YAML 1.1\n---\n" + yaml.safe_dump(deck, sort_keys=False, default_flow_style=False) + "...\n"
+    # (width: no plain scalar folded over two lines, which Teuchos' YAML parser refuses, e.g. a
+    # polygon's vertex list.)
+    return "%YAML 1.1\n---\n" + yaml.safe_dump(deck, sort_keys=False, default_flow_style=False,
+                                                width=1 << 30) + "...\n"
 
 
 def text_hash(text):

@@ -9,8 +9,8 @@ one at a time (output-root/runs/<case>/; a run whose summary.yaml exists and who
 unchanged is reused), computes errors, refinement orders, Problem 2's discrepancy budget, the
 cell-crossing study (crossing.py), the large-deformation section (largedef.py), the
 manufactured-solution convergence study (mms.py) and the large-deflection cantilever with the
-explicit/implicit time to solution (cantilever.py) and the seed beam with B-splines
-(beam_bspline.py), and writes
+explicit/implicit time to solution (cantilever.py), the seed beam with B-splines
+(beam_bspline.py) and bodies that meet walls and each other (contact.py), and writes
 doc/verification.md with its figures in doc/verification/ (--reduced: a short subset for ctest,
 written under output-root). --check prints one PASS/FAIL line per target and exits 1 if
 any fails. cmake/run-verification.sh builds impm first and then calls this script.
@@ -39,12 +39,13 @@ import largedef  # noqa: E402
 import mms  # noqa: E402
 import cantilever  # noqa: E402
 import beam_bspline  # noqa: E402
+import contact  # noqa: E402
 import plots  # noqa: E402
 import report  # noqa: E402
 from runner import Runner  # noqa: E402
 
-# Sections 6 to 9 of the report, in that order.
-LARGE_DEFORMATION_SECTIONS = (largedef, mms, cantilever, beam_bspline)
+# Sections 6 to 10 of the report, in that order.
+LATER_SECTIONS = (largedef, mms, cantilever, beam_bspline, contact)
 
 REPO = os.path.dirname(os.path.dirname(HERE))
 
@@ -235,9 +236,9 @@ def main(argv=None):
         runner.run(c, i, len(crossing_cases))
     cross = crossing.compute(runner.runs, crossing_cases)
     res["checks"].extend(cross["checks"])
-    # The large-deformation sections share one interface: plan, cases_of, compute, plot, markdown.
+    # Sections 6 on share one interface: plan, cases_of, compute, plot, markdown.
     sections = []
-    for module in LARGE_DEFORMATION_SECTIONS:
+    for module in LATER_SECTIONS:
         section_plan = module.plan(REPO, args.reduced)
         section_cases = module.cases_of(section_plan)
         for i, c in enumerate(section_cases, 1):
