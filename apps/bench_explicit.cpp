@@ -204,7 +204,7 @@ void printUsage() {
   std::printf(
       "usage: impm_bench_explicit [--case "
       "mpm2d|gimp2d|mpm3d|gimp3d|neohookean2d|j2-2d|dp-2d|mc-2d|j2-3d|dp-3d|mc-3d|contact2d|apic-gimp2d|tpic-gimp2d|"
-      "xpic-gimp2d|fbar-j2-2d|fbar-j2-3d] [--steps N] "
+      "xpic-gimp2d|fbar-j2-2d|fbar-j2-3d|cpgimp2d|bspline2d|bspline3-2d|cpdi2d] [--steps N] "
       "[--repeat N] [--timers]\n"
       "  runs each case at 1 and 2 OpenMP threads (one child process per thread count) and prints\n"
       "  M particle-steps/s (best, median and worst of N timed repeats, default 3) and bytes per\n"
@@ -219,7 +219,8 @@ int main(int argc, char** argv) {
   std::string only;
   const char* cases[] = {"mpm2d",       "gimp2d",      "mpm3d",       "gimp3d",     "neohookean2d", "j2-2d",
                          "dp-2d",       "mc-2d",       "j2-3d",       "dp-3d",      "mc-3d",        "contact2d",
-                         "apic-gimp2d", "tpic-gimp2d", "xpic-gimp2d", "fbar-j2-2d", "fbar-j2-3d"};
+                         "apic-gimp2d", "tpic-gimp2d", "xpic-gimp2d", "fbar-j2-2d", "fbar-j2-3d",   "cpgimp2d",
+                         "bspline2d",   "bspline3-2d", "cpdi2d"};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--child")) child = true;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[i + 1]);
@@ -243,7 +244,8 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "impm_bench_explicit: unknown --case '%s' (mpm2d, gimp2d, mpm3d, gimp3d, neohookean2d, j2-2d, dp-2d, mc-2d, "
-        "j2-3d, dp-3d, mc-3d, contact2d, apic-gimp2d, tpic-gimp2d, xpic-gimp2d, fbar-j2-2d, fbar-j2-3d)\n",
+        "j2-3d, dp-3d, mc-3d, contact2d, apic-gimp2d, tpic-gimp2d, xpic-gimp2d, fbar-j2-2d, fbar-j2-3d, cpgimp2d, "
+        "bspline2d, bspline3-2d, cpdi2d)\n",
         only.c_str());
     return 2;
   }
@@ -325,5 +327,11 @@ int main(int argc, char** argv) {
   if (wanted("fbar-j2-3d"))
     runCase<impm::LinearMpm, 3>(steps, repeats, comm, impm::MaterialModel::J2Plasticity, false,
                                 impm::ParticleTransfer::FlipPic, true);
+  // The other shapes on the 2D bar: cpGIMP (9 nodes), the quadratic and cubic B-splines (9 and 16
+  // nodes) and CPDI (the corners' tents, up to 16 nodes).
+  if (wanted("cpgimp2d")) runCase<impm::ConvectedGimp, 2>(steps, repeats, comm);
+  if (wanted("bspline2d")) runCase<impm::QuadraticBSpline, 2>(steps, repeats, comm);
+  if (wanted("bspline3-2d")) runCase<impm::CubicBSpline, 2>(steps, repeats, comm);
+  if (wanted("cpdi2d")) runCase<impm::Cpdi, 2>(steps, repeats, comm);
   return 0;
 }

@@ -39,6 +39,11 @@ struct ParticleStencil<Cpdi, Dim> {
   // From the particle views: position(p, d), halfSize(p, d) (the initial half sizes) and F(p, i, j).
   template <class PositionView, class SizeView, class DeformationView>
   KOKKOS_INLINE_FUNCTION ParticleStencil(const StructuredGrid& grid, const PositionView& position,
+                                         const SizeView& halfSize, const DeformationView& F, int p)
+      : ParticleStencil(StencilGrid(grid), position, halfSize, F, p) {}
+  // The same with the inverse cell sizes computed once for the kernel (StencilGrid).
+  template <class PositionView, class SizeView, class DeformationView>
+  KOKKOS_INLINE_FUNCTION ParticleStencil(const StencilGrid& grid, const PositionView& position,
                                          const SizeView& halfSize, const DeformationView& F, int p) {
     double xc[Dim], r[Dim][Dim];
     for (int d = 0; d < Dim; ++d) {
@@ -55,7 +60,7 @@ struct ParticleStencil<Cpdi, Dim> {
       x[d] = xc[d];
       for (int i = 0; i < Dim; ++i) r[i][d] = F[Dim * d + i] * l[i];
     }
-    build(grid, x, r);
+    build(StencilGrid(grid), x, r);
   }
 
   KOKKOS_INLINE_FUNCTION int nodes(int d) const { return count[d]; }
@@ -105,33 +110,32 @@ struct ParticleStencil<Cpdi, Dim> {
   KOKKOS_INLINE_FUNCTION double gradY(int a, int b) const { return g[a + N * b][1]; }
 
  private:
-  // The cell holding coordinate x along direction d (the last cell for x on the last grid line).
-  KOKKOS_INLINE_FUNCTION static int cellOf(const StructuredGrid& grid, int d, double x) {
-    const int c = floorToInt((x - grid.origin(d)) / grid.spacing(d));
-    const int last = grid.cells(d) - 1;
-    return c < 0 ? 0 : c > last ? last : c;
-  }
-
-  // r[i][d]: component d of domain vector r_i.
-  KOKKOS_INLINE_FUNCTION void build(const StructuredGrid& grid, const double (&xp)[Dim], const double (&r)[Dim][Dim]) {
+  // r[i][d]: component d of domain vector r_i. Each corner's cell and its position in the cell
+  // (in cell units, from 1/h: no division per corner) give the box and the tents.
+  KOKKOS_INLINE_FUNCTION void build(const StencilGrid& grid, const double (&xp)[Dim], const double (&r)[Dim][Dim]) {
     constexpr int corners = 1 << Dim;
     constexpr double scale = 1.0 / corners;
-    // The corners, clipped to the grid.
-    double xc[corners][Dim];
+    // The corners, clipped to the grid; the cell holding each (the last cell for a corner on the
+    // last grid line) and the tents (1 - xi, xi) of its position xi in that cell.
+    int cell[corners][Dim];
+    double tent[corners][Dim][2];
     for (int c = 0; c < corners; ++c)
       for (int d = 0; d < Dim; ++d) {
         double x = xp[d];
         for (int i = 0; i < Dim; ++i) x += ((c >> i) & 1 ? 1.0 : -1.0) * r[i][d];
         const double lo = grid.origin(d), hi = lo + grid.cells(d) * grid.spacing(d);
-        xc[c][d] = x < lo ? lo : x > hi ? hi : x;
+        const double u = ((x < lo ? lo : x > hi ? hi : x) - lo) * grid.inverseSpacing[d];
+        const int k = floorToInt(u), last = grid.cells(d) - 1;
+        cell[c][d] = k < 0 ? 0 : k > last ? last : k;
+        tent[c][d][0] = 1.0 - (u - cell[c][d]);
+        tent[c][d][1] = u - cell[c][d];
       }
     capped = false;
     for (int d = 0; d < Dim; ++d) {
-      int lo = cellOf(grid, d, xc[0][d]), hi = lo;
+      int lo = cell[0][d], hi = lo;
       for (int c = 1; c < corners; ++c) {
-        const int k = cellOf(grid, d, xc[c][d]);
-        lo = k < lo ? k : lo;
-        hi = k > hi ? k : hi;
+        lo = cell[c][d] < lo ? cell[c][d] : lo;
+        hi = cell[c][d] > hi ? cell[c][d] : hi;
       }
       first[d] = lo;
       count[d] = hi - lo + 2;
@@ -156,22 +160,13 @@ struct ParticleStencil<Cpdi, Dim> {
         for (int i = 0; i < Dim; ++i) v += Rinv[i][d] * ((c >> i) & 1 ? 1.0 : -1.0);
         coef[d] = scale * v;
       }
-      // The corner's cell and its tents (1 - xi, xi) per direction.
-      int cell[Dim];
-      double tent[Dim][2];
-      for (int d = 0; d < Dim; ++d) {
-        cell[d] = cellOf(grid, d, xc[c][d]);
-        const double xi = (xc[c][d] - (grid.origin(d) + cell[d] * grid.spacing(d))) / grid.spacing(d);
-        tent[d][0] = 1.0 - xi;
-        tent[d][1] = xi;
-      }
-      for (int k = 0; k < corners; ++k) {  // the cell's 2^Dim nodes
+      for (int k = 0; k < corners; ++k) {  // the corner cell's 2^Dim nodes
         double Nk = 1.0;
         int n = 0, stride = 1;
         bool inside = true;
         for (int d = 0; d < Dim; ++d) {
-          const int bit = (k >> d) & 1, offset = cell[d] + bit - first[d];
-          Nk *= tent[d][bit];
+          const int bit = (k >> d) & 1, offset = cell[c][d] + bit - first[d];
+          Nk *= tent[c][d][bit];
           inside = inside && offset < N;
           n += stride * offset;
           stride *= N;

@@ -134,6 +134,9 @@ struct ParticleStencil {
         return;
       }
     }
+    if constexpr (HasDomainStencil<Shape>::value) {
+      if (Shape::domainStencil((x - origin) * invh, l * invh, invh, ncells, first, count, w, gr)) return;
+    }
     if (!Shape::fixed_count) {
       // A particle domain is clipped to the grid: the grid's edge is the body's boundary. The
       // clipped domain's functions keep the partition of unity (sum w = 1, sum grad = 0), so

@@ -67,6 +67,14 @@ struct HasInteriorStencil<Shape,
                           decltype(void(Shape::interiorStencil(0.0, 0.0, 0, std::declval<int&>(), nullptr, nullptr)))>
     : std::true_type {};
 
+// Whether a shape has UniformGimp's domainStencil.
+template <class Shape, class = void>
+struct HasDomainStencil : std::false_type {};
+template <class Shape>
+struct HasDomainStencil<Shape, decltype(void(Shape::domainStencil(0.0, 0.0, 0.0, 0, std::declval<int&>(),
+                                                                  std::declval<int&>(), nullptr, nullptr)))>
+    : std::true_type {};
+
 // Uniform GIMP (Bardenhagen & Kober 2004): the particle is a box of half size l (l <= h/2)
 // with characteristic function chi_p; S_ip = (1/V_p) int chi_p N_i dx, and the gradient
 // weight is (1/V_p) int chi_p dN_i/dx dx = dS_ip/dx_p. Closed forms per 1D interval.
@@ -98,6 +106,54 @@ struct UniformGimp {
     const int last = floorToInt(xi + l_over_h) + 1;
     count = last - first + 1;
     if (count > max_nodes_1d) count = max_nodes_1d;
+  }
+  // The whole 1D stencil of a domain inside the grid, from its grid coordinate xi = (x - origin) / h
+  // and half size lh = l / h <= 1/2: value() and gradient() in cell units, with one division per
+  // particle instead of one or two per node. With i = floor(xi) and f = xi - i, a domain within
+  // cell i (lh <= f <= 1 - lh) has the tent's two weights 1 - f and f; one across node i (f < lh)
+  // has three, node i's 1 - (f^2 + lh^2) / (2 lh) and its neighbours' (lh -+ f)^2 / (4 lh); one
+  // across node i + 1 the mirror image. Equal to value() and gradient() up to rounding (a few ulps;
+  // test_shape_functions). False, and nothing set, for a domain wider than a cell or one that
+  // reaches the grid's edge: the caller then takes the general path, which clips it.
+  KOKKOS_INLINE_FUNCTION static bool domainStencil(double xi, double lh, double invh, int ncells, int& first,
+                                                   int& count, double* w, double* gr) {
+    const int i = floorToInt(xi);
+    const double f = xi - i;
+    if (!(lh <= 0.5) || !(lh > 0.0)) return false;
+    if (f < lh) {  // across node i: nodes i - 1, i, i + 1
+      if (i < 1 || i + 1 > ncells) return false;
+      const double q = 0.25 / lh, a = lh - f, b = lh + f;
+      first = i - 1;
+      count = 3;
+      w[0] = a * a * q;
+      w[1] = 1.0 - (f * f + lh * lh) * (2.0 * q);
+      w[2] = b * b * q;
+      gr[0] = -a * (2.0 * q) * invh;
+      gr[1] = -f * (4.0 * q) * invh;
+      gr[2] = b * (2.0 * q) * invh;
+      return true;
+    }
+    if (f > 1.0 - lh) {  // across node i + 1: nodes i, i + 1, i + 2
+      if (i < 0 || i + 2 > ncells) return false;
+      const double q = 0.25 / lh, g = 1.0 - f, a = lh - g, b = lh + g;
+      first = i;
+      count = 3;
+      w[0] = b * b * q;
+      w[1] = 1.0 - (g * g + lh * lh) * (2.0 * q);
+      w[2] = a * a * q;
+      gr[0] = -b * (2.0 * q) * invh;
+      gr[1] = g * (4.0 * q) * invh;
+      gr[2] = a * (2.0 * q) * invh;
+      return true;
+    }
+    if (i < 0 || i + 1 > ncells) return false;  // within cell i: the tent
+    first = i;
+    count = 2;
+    w[0] = 1.0 - f;
+    w[1] = f;
+    gr[0] = -invh;
+    gr[1] = invh;
+    return true;
   }
 };
 
@@ -209,6 +265,26 @@ struct QuadraticBSpline {
     first = floorToInt(xi + 0.5) - 1;
     count = 3;
   }
+  // The whole stencil of a point off the edge half cells (nearest node i from 1 to cells - 1, where
+  // no edge tent applies), from xi = (x - origin) / h: with d = xi - i in [-1/2, 1/2),
+  // (1/2 - d)^2 / 2, 3/4 - d^2, (1/2 + d)^2 / 2 and their slopes. value() and gradient() without
+  // their divisions and branches, equal up to rounding (test_shape_functions). False, and nothing
+  // set, on an edge half cell: the caller then takes the general path.
+  KOKKOS_INLINE_FUNCTION static bool domainStencil(double xi, double /*lh*/, double invh, int ncells, int& first,
+                                                   int& count, double* w, double* gr) {
+    const int i = floorToInt(xi + 0.5);
+    if (i < 1 || i > ncells - 1) return false;
+    const double d = xi - i, a = 0.5 - d, b = 0.5 + d;
+    first = i - 1;
+    count = 3;
+    w[0] = 0.5 * a * a;
+    w[1] = 0.75 - d * d;
+    w[2] = 0.5 * b * b;
+    gr[0] = -a * invh;
+    gr[1] = -2.0 * d * invh;
+    gr[2] = b * invh;
+    return true;
+  }
 };
 
 // Cubic B-spline MPM (Steffen, Kirby & Berzins 2008, IJNME 76; de Vaucorbeil, Nguyen, Sinaie & Wu
@@ -275,6 +351,29 @@ struct CubicBSpline {
   KOKKOS_INLINE_FUNCTION static void range(double xi, double /*l_over_h*/, int& first, int& count) {
     first = floorToInt(xi) - 1;
     count = 4;
+  }
+  // The whole stencil of a point off the edge cells (cell i from 1 to cells - 2: the folded-in
+  // splines of the missing nodes reach the edge cells only), from xi = (x - origin) / h: with
+  // f = xi - i, the uniform spline's four pieces (1 - f)^3 / 6, 2/3 - f^2 + f^3 / 2,
+  // 2/3 - g^2 + g^3 / 2 and f^3 / 6 (g = 1 - f) and their slopes. value() and gradient() without
+  // their divisions and branches, equal up to rounding (test_shape_functions). False, and nothing
+  // set, in an edge cell: the caller then takes the general path.
+  KOKKOS_INLINE_FUNCTION static bool domainStencil(double xi, double /*lh*/, double invh, int ncells, int& first,
+                                                   int& count, double* w, double* gr) {
+    const int i = floorToInt(xi);
+    if (i < 1 || i > ncells - 2) return false;
+    const double f = xi - i, g = 1.0 - f;
+    first = i - 1;
+    count = 4;
+    w[0] = g * g * g * (1.0 / 6.0);
+    w[1] = 2.0 / 3.0 - f * f + 0.5 * f * f * f;
+    w[2] = 2.0 / 3.0 - g * g + 0.5 * g * g * g;
+    w[3] = f * f * f * (1.0 / 6.0);
+    gr[0] = -0.5 * g * g * invh;
+    gr[1] = (1.5 * f - 2.0) * f * invh;
+    gr[2] = -(1.5 * g - 2.0) * g * invh;
+    gr[3] = 0.5 * f * f * invh;
+    return true;
   }
 };
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 #include <type_traits>
+#include <vector>
 
 #include "core/ParticleStencil.hpp"
 
@@ -364,6 +365,74 @@ TEUCHOS_UNIT_TEST(ShapeFunctions, LinearMpmInteriorStencilMatchesTheTraits) {
   const ParticleStencil<LinearMpm> st(g, g.xMax(), g.y0 + 2.5 * g.hy, 0.0, 0.0);
   TEST_EQUALITY(st.first[0], g.nx - 1);
   TEST_FLOATING_EQUALITY(st.w[0][1], 1.0, 1e-14);
+}
+
+// The fast paths of GIMP and the B-splines (domainStencil, taken by the stencil wherever the
+// domain or point is off the grid's edge functions) give the per-node value() and gradient() to
+// round-off, on the same nodes (a node either path leaves out has zero weight in the other), and
+// decline where the general path's clipping or edge functions apply. Points: random ones and the
+// 5-per-cell lattice, whose GIMP domains end on cell lines.
+template <class Shape>
+void checkDomainStencil(const std::vector<double>& halfSizes, Teuchos::FancyOStream& out, bool& success) {
+  const StructuredGrid g = testGrid();
+  const double invh = 1.0 / g.hx;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> ux(g.x0, g.xMax());
+  std::vector<double> points;
+  for (int k = 0; k < 4000; ++k) points.push_back(ux(rng));
+  for (int c = 0; c < g.nx; ++c)
+    for (int k = 0; k < 5; ++k) points.push_back(g.nodeX(c) + (k + 0.5) * g.hx / 5);
+  int taken = 0, declined = 0;
+  for (double l : halfSizes)
+    for (double x : points) {
+      int first = -1, count = 0;
+      double w[Shape::max_nodes_1d], gr[Shape::max_nodes_1d];
+      if (!Shape::domainStencil((x - g.x0) * invh, l * invh, invh, g.nx, first, count, w, gr)) {
+        ++declined;
+        TEST_EQUALITY_CONST(first, -1);
+        continue;
+      }
+      ++taken;
+      TEST_ASSERT(first >= 0 && first + count - 1 <= g.nx);
+      double sumW = 0, sumG = 0;
+      for (int i = std::max(0, first - 2); i <= std::min(g.nx, first + count + 1); ++i) {
+        const int a = i - first;
+        const bool inStencil = a >= 0 && a < count;
+        const double r = x - g.nodeX(i);
+        const double value = Shape::value(r, g.hx, l, i, g.nx), grad = Shape::gradient(r, g.hx, l, i, g.nx);
+        TEST_COMPARE(std::abs((inStencil ? w[a] : 0.0) - value), <, 1e-13);
+        TEST_COMPARE(std::abs((inStencil ? gr[a] : 0.0) - grad), <, 1e-13 * invh);
+        if (inStencil) {
+          sumW += w[a];
+          sumG += gr[a];
+        }
+      }
+      TEST_COMPARE(std::abs(sumW - 1.0), <, 1e-14);
+      TEST_COMPARE(std::abs(sumG), <, 1e-13 * invh);
+    }
+  out << Shape::name << ": fast path taken for " << taken << " points, declined for " << declined << "\n";
+  TEST_COMPARE(taken, >, 2 * declined);  // declined only in the edge cells (2 of 12)
+  TEST_COMPARE(declined, >, 0);
+  int first = -1, count = 0;
+  double w[Shape::max_nodes_1d], gr[Shape::max_nodes_1d];
+  // At and across the grid's edges the general path's clipping or edge functions apply.
+  for (double xi : {0.05, g.nx - 0.05, g.nx + 0.25, -0.5})
+    TEST_ASSERT(!Shape::domainStencil(xi, 0.1, invh, g.nx, first, count, w, gr));
+  TEST_EQUALITY_CONST(first, -1);
+}
+
+TEUCHOS_UNIT_TEST(ShapeFunctions, GimpDomainStencilMatchesTheTraits) {
+  checkDomainStencil<UniformGimp>({0.05, 0.1, 0.125, 0.2, 0.25}, out, success);
+  int first = -1, count = 0;
+  double w[3], gr[3];
+  // A domain wider than a cell (l > h/2) is the general path's.
+  TEST_ASSERT(!UniformGimp::domainStencil(4.5, 0.6, 2.0, 12, first, count, w, gr));
+}
+TEUCHOS_UNIT_TEST(ShapeFunctions, QuadraticBSplineDomainStencilMatchesTheTraits) {
+  checkDomainStencil<QuadraticBSpline>({0.0}, out, success);
+}
+TEUCHOS_UNIT_TEST(ShapeFunctions, CubicBSplineDomainStencilMatchesTheTraits) {
+  checkDomainStencil<CubicBSpline>({0.0}, out, success);
 }
 
 }  // namespace
