@@ -10,7 +10,7 @@ unchanged is reused), computes errors, refinement orders, Problem 2's discrepanc
 cell-crossing study (crossing.py), the large-deformation section (largedef.py), the
 manufactured-solution convergence study (mms.py) and the large-deflection cantilever with the
 explicit/implicit time to solution (cantilever.py), the seed beam with B-splines
-(beam_bspline.py) and bodies that meet walls and each other (contact.py), and writes
+(beam_bspline.py), bodies that meet walls and each other (contact.py) and soils (soils.py), and writes
 doc/verification.md with its figures in doc/verification/ (--reduced: a short subset for ctest,
 written under output-root). --check prints one PASS/FAIL line per target and exits 1 if
 any fails. cmake/run-verification.sh builds impm first and then calls this script.
@@ -40,12 +40,13 @@ import mms  # noqa: E402
 import cantilever  # noqa: E402
 import beam_bspline  # noqa: E402
 import contact  # noqa: E402
+import soils  # noqa: E402
 import plots  # noqa: E402
 import report  # noqa: E402
 from runner import Runner  # noqa: E402
 
-# Sections 6 to 10 of the report, in that order.
-LATER_SECTIONS = (largedef, mms, cantilever, beam_bspline, contact)
+# Sections 6 to 11 of the report, in that order.
+LATER_SECTIONS = (largedef, mms, cantilever, beam_bspline, contact, soils)
 
 REPO = os.path.dirname(os.path.dirname(HERE))
 
