@@ -83,7 +83,8 @@ class Runner:
             except OSError:
                 return ""
         commit = git("rev-parse", "--short", "HEAD") or "unknown"
-        dirty = "+changes" if git("status", "--porcelain", "--untracked-files=no") else ""
+        # (The report's own pages under doc/ do not count: a rerun rewrites them.)
+        dirty = "+changes" if git("status", "--porcelain", "--untracked-files=no", "--", ".", ":!doc") else ""
         built = time.strftime("%Y-%m-%d %H:%M", time.gmtime(os.path.getmtime(self.binary("impm"))))
         return f"commit {commit}{dirty}, impm built {built} UTC"
 
