@@ -21,6 +21,7 @@ import numpy as np
 import decks
 from cases import Case
 from checks import Check
+from checks import _finite as _fin
 from report import table
 
 G, THETA = 10.0, math.pi / 6
@@ -253,9 +254,6 @@ def compute(runs, p):
 
 
 # ---------------------------------------------------------------- checks
-
-def _fin(*v):
-    return all(x is not None and math.isfinite(x) for x in v)
 
 
 def _rel(a, b):

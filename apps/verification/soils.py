@@ -21,6 +21,7 @@ import numpy as np
 import decks
 from cases import Case
 from checks import Check
+from checks import _finite as _fin
 from report import table
 
 DECK = "apps/column_collapse_explicit_gimp_dp.yaml"
@@ -133,9 +134,6 @@ def compute(runs, p):
     res["checks"] = evaluate(res)
     return res
 
-
-def _fin(*v):
-    return all(x is not None and math.isfinite(x) for x in v)
 
 
 def evaluate(res):
