@@ -71,6 +71,11 @@ class Check:
         return f"{tag}  {self.name}: {self.detail}"
 
 
+def failed_run(name, run):
+    """The check `name` failed because its run did not complete."""
+    return Check(name, False, f"run {run.case.name} failed: {run.message}")
+
+
 def _finite(*v):
     return all(x is not None and math.isfinite(x) for x in v)
 

@@ -22,6 +22,7 @@ import decks
 from cases import Case
 from checks import Check
 from checks import _finite as _fin
+from checks import failed_run
 from report import table
 
 G, THETA = 10.0, math.pi / 6
@@ -265,7 +266,7 @@ def evaluate(res):
     for r in res["incline"]:
         name = f"Contact, block on a 30 degree incline, {r['text']}"
         if not r["run"].ok:
-            out.append(Check(name, False, f"run {r['case'].name} failed: {r['run'].message}"))
+            out.append(failed_run(name, r["run"]))
         elif r["exact"] > 0:
             err = _rel(r["travel"], r["exact"])
             out.append(Check(name + ": travel within 3%", _fin(err) and abs(err) < TRAVEL_TOL,
@@ -278,7 +279,7 @@ def evaluate(res):
     for r in res["disk"]:
         name = f"Contact, disk on the incline, mu = {r['mu']:g}"
         if not r["run"].ok:
-            out.append(Check(name, False, f"run {r['case'].name} failed: {r['run'].message}"))
+            out.append(failed_run(name, r["run"]))
             continue
         te, se = _rel(r["travel"], r["travel_exact"]), _rel(r["spin"], r["spin_exact"])
         detail = (f"travel {r['travel']:.4g} m against {r['travel_exact']:.4g} m ({100 * te:+.1f}%), spin "
@@ -310,7 +311,7 @@ def evaluate(res):
     for r in res["braking"]:
         name = f"Walls, block braking on a rough floor ({r['scheme']})"
         if not r["run"].ok:
-            out.append(Check(name, False, f"run {r['case'].name} failed: {r['run'].message}"))
+            out.append(failed_run(name, r["run"]))
             continue
         e1, e2 = _rel(r["v1"], r["e1"]), _rel(r["v2"], r["e2"])
         wn = _rel(r["normal"], BLOCK_MASS * G)
@@ -322,7 +323,7 @@ def evaluate(res):
     for r in res["bar"]:
         name = f"Walls, bar against a frictionless wall ({r['scheme']})"
         if not r["run"].ok:
-            out.append(Check(name, False, f"run {r['case'].name} failed: {r['run'].message}"))
+            out.append(failed_run(name, r["run"]))
             continue
         ef = _rel(r["plateau"], r["force_exact"])
         tol = BAR_FORCE_TOL[r["scheme"]]

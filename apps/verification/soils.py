@@ -22,6 +22,7 @@ import decks
 from cases import Case
 from checks import Check
 from checks import _finite as _fin
+from checks import failed_run
 from report import table
 
 DECK = "apps/column_collapse_explicit_gimp_dp.yaml"
@@ -141,7 +142,7 @@ def evaluate(res):
     for r in res["columns"]:
         name = f"Soils, column collapse {r['text']}"
         if not r["run"].ok:
-            out.append(Check(name, False, f"run {r['case'].name} failed: {r['run'].message}"))
+            out.append(failed_run(name, r["run"]))
             continue
         a = r["a"]
         hi = 1.67 * a * (1.0 if a < 1 else TALL_DEM_FACTOR)
