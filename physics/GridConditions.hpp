@@ -155,6 +155,13 @@ class GridConditions {
     sumWallReactions();
   }
 
+  // Multi-field contact in the implicit step: the contact law, and the force of each pair of
+  // bodies on its first (3 per pair, this rank's share) of the converged step.
+  const MultiFieldContact& contact() const { return contact_; }
+  void recordContactForces(const std::vector<double>& pairForce) {
+    std::copy(pairForce.begin(), pairForce.end(), localReaction_.end() - pairForce.size());
+  }
+
   // Multi-field contact: the number of grid velocity fields (1 without contact), each body's
   // field, and where the integrator keeps field f: its particle sums sumsStride * f columns and its
   // kinematics kinStride * f columns after field 0's.

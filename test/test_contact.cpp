@@ -26,35 +26,16 @@
 #include "core/InputDeck.hpp"
 #include "solvers/Simulation.hpp"
 #include "solvers/build/Deck.hpp"
+#include "BodyMotion.hpp"
 #include "DeckRefusals.hpp"
 
 namespace {
 
 using Teuchos::ParameterList;
 
-ParameterList deckOf(const std::string& name) {
-  ParameterList d = *impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/" + name);
-  d.sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
-  return d;
-}
+using impm_test::quietAppDeck;
 
-// The mass-weighted mean velocity of each body's particles (over all ranks), after the run.
-std::vector<std::array<double, 2>> bodyVelocities(const impm::Simulation& sim) {
-  const impm::ParticleSet& ps = sim.particles();
-  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.v);
-  auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.mass);
-  auto body = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.body);
-  const int bodies = (int)sim.bodies().size();
-  std::vector<double> local(3 * bodies, 0.0), global(3 * bodies, 0.0);
-  for (int p = 0; p < ps.count; ++p) {
-    local[3 * body(p)] += m(p);
-    for (int d = 0; d < 2; ++d) local[3 * body(p) + 1 + d] += m(p) * v(p, d);
-  }
-  Teuchos::reduceAll(*Tpetra::getDefaultComm(), Teuchos::REDUCE_SUM, 3 * bodies, local.data(), global.data());
-  std::vector<std::array<double, 2>> out(bodies);
-  for (int b = 0; b < bodies; ++b) out[b] = {global[3 * b + 1] / global[3 * b], global[3 * b + 2] / global[3 * b]};
-  return out;
-}
+using impm_test::bodyVelocities;
 
 struct DiskRun {
   impm::RunResult result;
@@ -62,7 +43,7 @@ struct DiskRun {
 };
 
 DiskRun runDisks(int refine) {
-  ParameterList d = deckOf("colliding_disks_contact_explicit_gimp.yaml");
+  ParameterList d = quietAppDeck("colliding_disks_contact_explicit_gimp.yaml");
   ParameterList& g = d.sublist("Grid");
   g.set("Cells X", 20 * refine)
       .set("Cells Y", 20 * refine)
@@ -127,7 +108,7 @@ TEUCHOS_UNIT_TEST(Contact, DisksCollideAndSeparate) {
 // The block's travel at t = 0.25 s (the centre particle's displacement along the incline).
 double inclineTravel(const std::function<void(ParameterList&)>& edit, const std::string& tag,
                      impm::RunResult* result = nullptr) {
-  ParameterList d = deckOf("block_incline_contact_explicit_gimp.yaml");
+  ParameterList d = quietAppDeck("block_incline_contact_explicit_gimp.yaml");
   edit(d);
   impm::validateDeck(d);
   impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/contact_incline_" + tag);
@@ -284,7 +265,7 @@ TEUCHOS_UNIT_TEST(Contact, DiskRollsOrSlipsDownIncline) {
   const double g = 10.0, theta = M_PI / 6, R = 0.02, t = 0.2;
   double rollingSpin = 0;
   for (double mu : {0.5, 0.1}) {
-    ParameterList d = deckOf("disk_incline_contact_explicit_gimp.yaml");
+    ParameterList d = quietAppDeck("disk_incline_contact_explicit_gimp.yaml");
     d.sublist("Contact").set("Friction", mu);
     impm::validateDeck(d);
     impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/contact_disk_" + std::to_string(mu));
@@ -384,8 +365,6 @@ TEUCHOS_UNIT_TEST(Contact, RefusesBadContact) {
     return &d.sublist("Contact Pairs").sublist("pair").set("Bodies", bodies);
   };
   const std::vector<impm_test::DeckRefusal> cases = {
-      {"implicit", "Contact/Type", "explicit step only",
-       [](ParameterList& d) { d.sublist("Integrator").set("Type", "Implicit"); }},
       {"negative friction", "Contact/Friction", "must be a finite coefficient >= 0",
        [](ParameterList& d) { d.sublist("Contact").set("Friction", -0.1); }},
       {"unknown body", "Contact Pairs/pair/Bodies", "names no entry of Bodies",
@@ -419,8 +398,8 @@ TEUCHOS_UNIT_TEST(Contact, RefusesBadContact) {
          d.remove("Constraints");
        }},
   };
-  impm_test::checkRefusals(deckOf("block_incline_contact_explicit_gimp.yaml"), cases, "test_output/contact_bad", out,
-                           success);
+  impm_test::checkRefusals(quietAppDeck("block_incline_contact_explicit_gimp.yaml"), cases, "test_output/contact_bad",
+                           out, success);
 }
 
 }  // namespace

@@ -22,17 +22,14 @@
 #include "core/InputDeck.hpp"
 #include "solvers/Simulation.hpp"
 #include "solvers/build/Deck.hpp"
+#include "BodyMotion.hpp"
 #include "DeckRefusals.hpp"
 
 namespace {
 
 using Teuchos::ParameterList;
 
-ParameterList deckOf(const std::string& name) {
-  ParameterList d = *impm::readDeck(std::string(IMPM_SOURCE_DIR) + "/apps/" + name);
-  d.sublist("Output").set("Plot", false).set("Progress", false).set("VTK Interval", 0);
-  return d;
-}
+using impm_test::quietAppDeck;
 
 double globalMax(double local) {
   double global = 0;
@@ -48,7 +45,7 @@ struct PlatenRun {
 
 // The platen deck at cell size 0.1 / refine (the same bodies).
 PlatenRun runPlaten(int refine) {
-  ParameterList d = deckOf("platen_compression_rigid_explicit_gimp.yaml");
+  ParameterList d = quietAppDeck("platen_compression_rigid_explicit_gimp.yaml");
   d.sublist("Grid")
       .set("Cells X", 14 * refine)
       .set("Cells Y", 16 * refine)
@@ -110,7 +107,7 @@ TEUCHOS_UNIT_TEST(RigidBodies, PlatenCompressesBlockToClosedForm) {
 // high at 10 cells over the height (2D: 1.9%, halving with h); asserted within 4%, the floor
 // carrying the same, no sideways force on the platen.
 TEUCHOS_UNIT_TEST(RigidBodies, PlatenCompressesCubeIn3d) {
-  ParameterList d = deckOf("platen_compression_rigid_explicit_gimp.yaml");
+  ParameterList d = quietAppDeck("platen_compression_rigid_explicit_gimp.yaml");
   d.sublist("Grid").set("Dimension", 3).set("Origin Z", 0.0).set("Cells Z", 14).set("Cell Size Z", 0.1);
   for (const char* name : {"floor", "platen"}) d.sublist("Bodies").sublist(name).set("Z Min", 0.0).set("Z Max", 1.4);
   d.sublist("Bodies").sublist("block").set("Z Min", 0.2).set("Z Max", 1.2);
@@ -140,7 +137,7 @@ struct TiltRun {
 };
 
 TiltRun runTilted(double mu) {
-  ParameterList d = deckOf("block_tilted_plane_rigid_explicit_gimp.yaml");
+  ParameterList d = quietAppDeck("block_tilted_plane_rigid_explicit_gimp.yaml");
   d.sublist("Contact").set("Friction", mu);
   impm::validateDeck(d);
   impm::Simulation sim(d, Tpetra::getDefaultComm(), "test_output/rigid_tilted");
@@ -200,8 +197,8 @@ TEUCHOS_UNIT_TEST(RigidBodies, RefusesBadRigidBodies) {
       {"bad table", "Bodies/platen/Table", "",
        [](ParameterList& d) { d.sublist("Bodies").sublist("platen").set("Table", "0, 0; 0, 1"); }},
   };
-  impm_test::checkRefusals(deckOf("platen_compression_rigid_explicit_gimp.yaml"), cases, "test_output/rigid_bad", out,
-                           success);
+  impm_test::checkRefusals(quietAppDeck("platen_compression_rigid_explicit_gimp.yaml"), cases, "test_output/rigid_bad",
+                           out, success);
 }
 
 }  // namespace

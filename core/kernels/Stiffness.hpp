@@ -29,6 +29,7 @@ struct BlockMatrices {
   int blockNodes[3] = {2, 2, 1};                                // nodes per direction of a block (1 in z for 2D)
   Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> origin;  // count x dim
   Kokkos::View<double***, Kokkos::LayoutRight, DeviceType> K;
+  Kokkos::View<int*, DeviceType> field;  // each block's velocity field (empty: all field 0)
   int nodes() const { return blockNodes[0] * blockNodes[1] * blockNodes[2]; }
   int dofs() const { return dim * nodes(); }
 };

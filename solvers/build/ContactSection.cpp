@@ -28,11 +28,12 @@ const char* const kFrictionDoc = "Coulomb friction coefficient mu >= 0 (Law = Co
 }  // namespace
 
 void addContactSchema(ParameterList& valid) {
-  ParameterList& c = valid.sublist("Contact", false, "contact between bodies (explicit integrator)");
+  ParameterList& c = valid.sublist("Contact", false, "contact between bodies");
   choice(c, "Type", "Single Field", {"Single Field", "Multi Field"},
          "Single Field: the bodies share one grid velocity field, so bodies that touch stick together; Multi Field: "
          "each body has its own velocity field and bodies meet by the contact law (Bardenhagen et al. 2001), "
-         "explicit integrator only. The force of each pair of bodies on the first is in history.csv "
+         "explicit and implicit (there as a penalty in the residual; see Implicit Penalty). The force of each pair of "
+         "bodies on the first is in history.csv "
          "(<pair>_contact_<x|y|z>; a pair not in Contact Pairs: <first>_<second> in the deck's body order) and "
          "summary.yaml");
   choice(c, "Law", "Coulomb", {"Coulomb", "No Slip"},
@@ -49,6 +50,11 @@ void addContactSchema(ParameterList& valid) {
          "normal than this many cell sizes (0.8 suits 2 particles per cell: touching surfaces are about 0.75 cells "
          "apart in this measure). The check keeps contact from braking a rolling body; a collision it detects later "
          "costs more energy");
+  number(c, "Implicit Penalty", 30.0,
+         "implicit integrator: the penalty factor alpha > 0 of the contact force in the residual, alpha r m (v* - "
+         "v_new) / c_v with v* the contact law's velocity, r = c1 + c_p^2 / h^2 a node's stiffness per unit mass. "
+         "The bodies' remaining approach is of order 1 / alpha of the one without contact; a larger alpha costs "
+         "Krylov iterations");
   number(c, "Mass Screen", 1.0e-5,
          "a node where a body holds less than this fraction of the mass (or more than 1 minus it) is not a contact "
          "node for it: the far edge of a stencil carries too little mass for a reliable normal");
@@ -161,15 +167,17 @@ void Simulation::readRigidBodies(ContactSpec& spec) const {
                     "/Rigid': every body is rigid; contact needs a body that is not");
 }
 
-// Multi-field contact: two bodies or more (at most MultiFieldContact::kMaxFields), the explicit
-// integrator, no projection correction, no load applied at grid nodes (it would belong to no body).
+// Multi-field contact: two bodies or more (at most MultiFieldContact::kMaxFields), no projection
+// correction, no load applied at grid nodes (it would belong to no body). The implicit step
+// refuses what it does not take (ImplicitNewmark::checkContactUsable).
 void Simulation::checkContactUsable() const {
   const ParameterList& integrator = deck_.sublist("Integrator");
   if (shapeInfo(shape_).fixedParticles)
     throw DeckError("'Contact/Type' = Multi Field needs material points; 'Method/Shape Function' = " + shape_ +
                     " is a finite-element reference without contact");
-  if (integrator.get<std::string>("Type") != "Explicit")
-    throw DeckError("'Contact/Type' = Multi Field acts in the explicit step only; set 'Integrator/Type' = Explicit");
+  const double penalty = deck_.sublist("Contact").get<double>("Implicit Penalty");
+  if (!(penalty > 0) || !std::isfinite(penalty))
+    throw DeckError("'Contact/Implicit Penalty' must be a finite number > 0, got " + formatNumber(penalty));
   if (bodies_.size() < 2)
     throw DeckError("'Contact/Type' = Multi Field needs two bodies or more in Bodies, got " +
                     std::to_string(bodies_.size()));

@@ -289,6 +289,7 @@ ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
   iopt.equilibriumAcceleration = im.get<std::string>("Grid Acceleration") == "Equilibrium";
   iopt.fixedParticles = fe;
   iopt.fbar = fbar_;
+  iopt.contactPenalty = deck_.sublist("Contact").get<double>("Implicit Penalty");
   readImplicitTransfer(iopt, im);
   iopt.newmark.beta = im.get<double>("Newmark Beta");
   iopt.newmark.gamma = im.get<double>("Newmark Gamma");
@@ -310,6 +311,12 @@ ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
   if (iopt.projectionIterations < 0)
     throw DeckError("'Integrator/Implicit/Consistent Projection Iterations' must not be negative");
   iopt.solverParams = Teuchos::rcp(new ParameterList(deck_.sublist("Implicit Solver")));
+  // Contact's penalty kinks the residual where bodies meet or start to slip: a line search unless
+  // the deck chose otherwise.
+  ParameterList& solver = *iopt.solverParams;
+  if (deck_.sublist("Contact").get<std::string>("Type") == "Multi Field" &&
+      (!solver.isParameter("Line Search") || solver.getEntry("Line Search").isDefault()))
+    solver.set("Line Search", "Backtrack");
   return iopt;
 }
 

@@ -8,25 +8,31 @@ template <int Dim>
 bool FreeDofMap<Dim>::update(const MultiVector& stateOwned, int freeX) {
   auto s = stateOwned.getLocalViewHost(Tpetra::Access::ReadOnly);
   const auto ownedMap = stateOwned.getMap();
-  std::vector<int> nodes, comps;
+  std::vector<int> nodes, comps, fields;
   std::vector<GO> gids;
   for (size_t n = 0; n < s.extent(0); ++n)
-    for (int d = 0; d < Dim; ++d)
-      if (s(n, freeX + d) > 0.5) {
-        nodes.push_back((int)n);
-        comps.push_back(d);
-        gids.push_back(gid(ownedMap->getGlobalElement((LO)n), d));
-      }
+    for (int f = 0; f < fields_; ++f)
+      for (int d = 0; d < Dim; ++d)
+        if (s(n, freeX + f * stride_ + d) > 0.5) {
+          nodes.push_back((int)n);
+          comps.push_back(d);
+          fields.push_back(f);
+          gids.push_back(gid(ownedMap->getGlobalElement((LO)n), d, f));
+        }
   node_ = Kokkos::View<int*, DeviceType>("free_node", nodes.size());
   component_ = Kokkos::View<int*, DeviceType>("free_comp", comps.size());
+  field_ = Kokkos::View<int*, DeviceType>("free_field", fields.size());
   auto hn = Kokkos::create_mirror_view(node_);
   auto hc = Kokkos::create_mirror_view(component_);
+  auto hf = Kokkos::create_mirror_view(field_);
   for (size_t k = 0; k < nodes.size(); ++k) {
     hn(k) = nodes[k];
     hc(k) = comps[k];
+    hf(k) = fields[k];
   }
   Kokkos::deep_copy(node_, hn);
   Kokkos::deep_copy(component_, hc);
+  Kokkos::deep_copy(field_, hf);
   const int changedHere = (map_.is_null() || gids != gids_) ? 1 : 0;
   gids_ = std::move(gids);
   int changed = 0;

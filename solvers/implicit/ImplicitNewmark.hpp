@@ -98,6 +98,9 @@ struct ImplicitOptions {
   double minimumTimeStep = 0.0;
   // How the assembled P's values are summed (StiffnessAssembler.hpp; the same bits either way).
   StiffnessFill stiffnessFill = StiffnessFill::Auto;
+  // Multi-field contact (physics/MultiFieldContact.hpp): the penalty factor alpha of the contact
+  // force in the residual (see ImplicitNewmark::addContactForces).
+  double contactPenalty = 30.0;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 
@@ -156,6 +159,15 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void recordReactions(const Vector& u);  // the grid conditions' reactions: the residual at their dofs
   void scatterUnknowns(const Vector& u);  // u (free dofs) -> ghosted grid displacement
   void correctProjection();               // consistent-mass correction of v and a on the grid
+  // Multi-field contact: what the implicit step does not take refused; the penalty contact force
+  // at the trial displacement in the residual.
+  void checkContactUsable() const;
+  void addContactForces();
+  // Runs f(columns) with each particle's field in grid views whose fields are `stride` columns
+  // apart: SingleField with one field (the kernels' columns stay compile-time constants), or
+  // FieldColumns.
+  template <class F>
+  void withFields(int stride, const F& f) const;
   bool equilibriumAcceleration() const {
     return opt_.equilibriumAcceleration && !opt_.consistentMass && !opt_.fixedParticles;
   }
@@ -175,6 +187,16 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   double dt_ = 0, massCutoff_ = 0;
   bool firstStep_ = true;
   bool seedGimpStiffness_ = false;  // the seed's overlap-integrated K (GIMP, 2D): cell blocks
+
+  // Velocity fields: one, or one per body with multi-field contact. Field f's columns sit f times
+  // the stride after field 0's: in the grid state (with the contact geometry, volume gradient and
+  // mass-weighted position, at geometryCol_), the displacement and the force multivectors.
+  int fields_ = 1;
+  int stateStride_ = 0, dispStride_ = 0, forceStride_ = 0, geometryCol_ = -1;
+  // Contact: the trial end velocities of the fields at the owned nodes, before and after the
+  // contact law, and the force of each pair at the last residual's point.
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> contactVelocity_, contactVelocityBefore_;
+  std::vector<double> contactPairForce_;
 
   // Owned and ghosted node multivectors (solvers/implicit/ImplicitGridColumns.hpp): grid state
   // (mass, v, a, F_ext, free flags), displacement, force.

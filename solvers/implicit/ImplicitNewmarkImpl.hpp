@@ -57,12 +57,26 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
   using SC = implicit::StateColumns<Dim>;
   using DC = implicit::DisplacementColumns<Dim>;
   using FC = implicit::ForceColumns<Dim>;
-  stateOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), SC::Count));
-  stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), SC::Count));
-  dispOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), DC::Count));
-  dispGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), DC::Count));
-  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), FC::Count));
-  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), FC::Count));
+  fields_ = conditions.fieldCount();
+  if (fields_ > 1) {
+    checkContactUsable();
+    stateStride_ = SC::Count + 2 * Dim;
+    geometryCol_ = SC::Count;
+    dispStride_ = DC::Count;
+    forceStride_ = FC::Count;
+    dofs_.setFields(fields_, stateStride_, dist.grid().numNodes());
+    assembler_.setFields(fields_, stateStride_);
+    const size_t owned = dist.ownedNodeMap()->getNodeNumElements();
+    contactVelocity_ = decltype(contactVelocity_)("contact_velocity", owned, fields_ * Dim);
+    contactVelocityBefore_ = decltype(contactVelocity_)("contact_velocity_before", owned, fields_ * Dim);
+  }
+  const int stateColumns = fields_ > 1 ? fields_ * stateStride_ : SC::Count;
+  stateOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), stateColumns));
+  stateGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), stateColumns));
+  dispOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), fields_ * DC::Count));
+  dispGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), fields_ * DC::Count));
+  forceOwned_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), fields_ * FC::Count));
+  forceGhosted_ = Teuchos::rcp(new MultiVector(dist.ghostedNodeMap(), fields_ * FC::Count));
   // (Linear MPM: every node a particle reaches is an unknown; see ImplicitOptions::massTolerance.)
   massCutoff_ =
       std::is_same<Shape, LinearMpm>::value ? 0.0 : opt_.massTolerance * heaviestParticleMass(ps_, *dist.comm());
@@ -95,6 +109,32 @@ ImplicitNewmark<Shape, Dim>::ImplicitNewmark(ParticleSet& particles, const GridD
     gridKinematics_ = Teuchos::rcp(new MultiVector(dist.ownedNodeMap(), 2 * Dim));
     if (ps_.u.extent(0) != size_t(ps_.count)) ps_.u = ps_.newVector("u");
   }
+}
+
+// Multi-field contact in the implicit step takes the lumped mass, moving particles, the FLIP/PIC
+// transfer and the bodies' own fields: what it does not take is refused here.
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::checkContactUsable() const {
+  auto refuse = [](const std::string& what) {
+    throw std::invalid_argument("'Contact/Type' = Multi Field with 'Integrator/Type' = Implicit: " + what);
+  };
+  if (opt_.consistentMass) refuse("needs 'Integrator/Implicit/Mass Matrix' = Lumped");
+  if (opt_.fixedParticles) refuse("needs material points, not the FE reference");
+  if (opt_.projectionIterations > 0) refuse("needs 'Integrator/Implicit/Consistent Projection Iterations' = 0");
+  if (opt_.transfer != ParticleTransfer::FlipPic) refuse("needs 'Integrator/Implicit/Transfer' = FLIP/PIC");
+  if (opt_.fbar) refuse("does not take 'Method/Volumetric Locking' = F-bar");
+  if (!opt_.equilibriumAcceleration) refuse("needs 'Integrator/Implicit/Grid Acceleration' = Equilibrium");
+  if (conditions_.hasWalls()) refuse("does not take Walls (a wall is a Rigid body in the explicit step)");
+  if (conditions_.contact().hasRigid()) refuse("does not take Rigid bodies (they need the explicit integrator)");
+}
+
+template <class Shape, int Dim>
+template <class F>
+void ImplicitNewmark<Shape, Dim>::withFields(int stride, const F& f) const {
+  if (fields_ > 1)
+    f(FieldColumns(ps_, conditions_.fieldOfBody(), stride));
+  else
+    f(SingleField());
 }
 
 template <class Shape, int Dim>
@@ -133,9 +173,12 @@ void ImplicitNewmark<Shape, Dim>::setUpStep(double t, double dt) {
   stateGhosted_->putScalar(0.0);
   {
     auto grid = stateGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    particleToGridMassMomentum<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, SC::Mass, SC::VelX, SC::AccX, -1,
-                                                 SingleField(), carriesAffineVelocity(opt_.transfer));
-    loads_.template scatterParticleForces<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, SC::FextX, t + dt);
+    withFields(stateStride_, [&](const auto& columns) {
+      particleToGridMassMomentum<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, SC::Mass, SC::VelX, SC::AccX,
+                                                   geometryCol_, columns, carriesAffineVelocity(opt_.transfer));
+      loads_.template scatterParticleForces<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, grid, SC::FextX, t + dt,
+                                                              columns);
+    });
   }
   stateOwned_->putScalar(0.0);
   stateOwned_->doExport(*stateGhosted_, *dist_.importer(), Tpetra::ADD);
@@ -167,8 +210,11 @@ void ImplicitNewmark<Shape, Dim>::forcesAtStart(double t) {
   forceGhosted_->putScalar(0.0);
   {
     auto f = forceGhosted_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    accumulateInternalForce<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, FC::ForceX);
-    loads_.template scatterParticleForces<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, f, FC::ForceX, t);
+    withFields(forceStride_, [&](const auto& columns) {
+      accumulateInternalForce<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, ps_.stress, f, FC::ForceX, columns);
+      loads_.template scatterParticleForces<Exec, Shape, Dim>(g, dist_.ghostedIndexer(), ps_, f, FC::ForceX, t,
+                                                              columns);
+    });
   }
   forceOwned_->putScalar(0.0);
   forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
@@ -213,20 +259,24 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
   loads_.template applyNodal<Exec>(s, SC::FextX, t + dt);
   auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   const double cutoff = massCutoff_;
+  const int fields = fields_, ss = stateStride_, fs = forceStride_;
   Kokkos::parallel_for(
       "implicit_grid_state", Kokkos::RangePolicy<Exec>(0, s.extent(0)), KOKKOS_LAMBDA(int n) {
-        const double m = s(n, SC::Mass);
-        const bool massive = m > cutoff;
-        for (int d = 0; d < Dim; ++d) {
-          s(n, SC::VelX + d) = massive ? s(n, SC::VelX + d) / m : 0.0;
-          s(n, SC::AccX + d) =
-              massive ? (accelerationFromForces ? f(n, FC::ForceX + d) / m : s(n, SC::AccX + d) / m) : 0.0;
-          s(n, SC::FreeX + d) = massive ? 1.0 : 0.0;
+        for (int b = 0; b < fields; ++b) {
+          const int o = b * ss, q = b * fs;
+          const double m = s(n, o + SC::Mass);
+          const bool massive = m > cutoff;
+          for (int d = 0; d < Dim; ++d) {
+            s(n, o + SC::VelX + d) = massive ? s(n, o + SC::VelX + d) / m : 0.0;
+            s(n, o + SC::AccX + d) =
+                massive ? (accelerationFromForces ? f(n, q + FC::ForceX + d) / m : s(n, o + SC::AccX + d) / m) : 0.0;
+            s(n, o + SC::FreeX + d) = massive ? 1.0 : 0.0;
+          }
         }
       });
-  conditions_.template write<Exec>(s, SC::VelX, PrescribedField::StartVelocity);
-  conditions_.template write<Exec>(s, SC::AccX, PrescribedField::StartAcceleration);
-  conditions_.template write<Exec>(s, SC::FreeX, PrescribedField::Zero);
+  conditions_.template write<Exec>(s, SC::VelX, PrescribedField::StartVelocity, ss);
+  conditions_.template write<Exec>(s, SC::AccX, PrescribedField::StartAcceleration, ss);
+  conditions_.template write<Exec>(s, SC::FreeX, PrescribedField::Zero, ss);
   if (conditions_.hasWalls()) {
     const ImplicitWallContact& walls = conditions_.implicitWalls();
     walls.template keepLoads<Exec>(s, SC::FextX);
@@ -247,6 +297,65 @@ void ImplicitNewmark<Shape, Dim>::correctProjection() {
                     massCutoff_, opt_.projectionIterations);
 }
 
+// The contact force in the residual: a penalty on the contact law's correction of the trial state.
+// At u, each field's end velocity v_new(u) (Newmark) goes through the contact law, which returns
+// v* (approach removed, slip reduced by Coulomb friction, separating bodies unchanged); the force
+//   F_c = alpha r m (v* - v_new) / c_v,   c_v = gamma / (beta dt) = d v_new / d u,
+// acts on the field, with r = c1 + c_p^2 / h^2 (c_p the fastest pressure wave, h the smallest
+// cell), a stiffness per unit mass of the node: its inertia c1 m and an estimate of its elastic
+// stiffness. The same r at every node and the law's momentum balance make the forces of two bodies
+// at a node equal and opposite; |F_t| <= mu |F_n| follows from the law's friction. As alpha grows
+// the solution's end velocities tend to the law's (no approach); what remains is an approach of
+// order 1 / alpha of the one the bodies would have without contact (the penalty's compliance).
+// Each field's start acceleration comes from its own body's forces, without contact's: the end
+// force carries the whole impulse. (Correcting the start accelerations by the law, as the explicit
+// step corrects velocities, was tried: its friction then acts on the relative acceleration, not on
+// the slip, and a block on an incline slid 12% too far.) The residual kinks where bodies meet or
+// start to slip; Newton needs a line search there (Backtrack, the default with contact).
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::addContactForces() {
+  using SC = implicit::StateColumns<Dim>;
+  using DC = implicit::DisplacementColumns<Dim>;
+  using FC = implicit::ForceColumns<Dim>;
+  const NewmarkConstants k(opt_.newmark, dt_);
+  auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
+  auto vel = contactVelocity_;
+  auto before = contactVelocityBefore_;
+  const int fields = fields_, ss = stateStride_, ds = dispStride_, fs = forceStride_;
+  Kokkos::parallel_for(
+      "contact_trial_velocity", Kokkos::RangePolicy<Exec>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
+        for (int b = 0; b < fields; ++b)
+          for (int c = 0; c < Dim; ++c) {
+            const double v = s(n, b * ss + SC::VelX + c), a = s(n, b * ss + SC::AccX + c);
+            const double vNew = v + k.velocityChange(a, k.newAcceleration(d(n, b * ds + DC::UX + c), v, a));
+            vel(n, b * Dim + c) = vNew;
+            before(n, b * Dim + c) = vNew;
+          }
+      });
+  conditions_.contact().template exchange<Exec>(s, SC::Mass, geometryCol_, ss, vel, 0, -1, Dim, Dim, dt_, true,
+                                                &contactPairForce_);
+  double h = dist_.grid().spacing(0);
+  for (int c = 1; c < Dim; ++c) h = std::min(h, dist_.grid().spacing(c));
+  const double wave = mat_.maxPWaveSpeed();
+  const double r = k.c1 + wave * wave / (h * h);
+  const double coefficient = opt_.contactPenalty * r * opt_.newmark.beta * dt_ / opt_.newmark.gamma;
+  Kokkos::parallel_for(
+      "contact_penalty_force", Kokkos::RangePolicy<Exec>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
+        for (int b = 0; b < fields; ++b) {
+          const double m = s(n, b * ss + SC::Mass);
+          for (int c = 0; c < Dim; ++c)
+            f(n, b * fs + FC::ForceX + c) += coefficient * m * (vel(n, b * Dim + c) - before(n, b * Dim + c));
+        }
+      });
+  // The law's pair forces are sum m dv / dt, the penalty's coefficient dt times them. Reported is
+  // the impulse the contact gives over the step per unit time, gamma F_c: the trapezoidal velocity
+  // update takes gamma of the end force, and the start acceleration (from the fields' own forces)
+  // none of the contact's (so that F_c is twice the force that holds a body at rest).
+  for (double& value : contactPairForce_) value *= coefficient * dt_ * opt_.newmark.gamma;
+}
+
 // ---- Residual and matrix ----------------------------------------------------------------------
 
 template <class Shape, int Dim>
@@ -258,12 +367,14 @@ void ImplicitNewmark<Shape, Dim>::scatterUnknowns(const Vector& u) {
     auto uv = u.getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto node = dofs_.node();
     auto comp = dofs_.component();
+    auto field = dofs_.field();
+    const int ds = dispStride_;
     Kokkos::parallel_for(
         "scatter_unknowns", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
-        KOKKOS_LAMBDA(int k) { d(node(k), DC::UX + comp(k)) = uv(k, 0); });
+        KOKKOS_LAMBDA(int k) { d(node(k), field(k) * ds + DC::UX + comp(k)) = uv(k, 0); });
     // The prescribed dofs move by their increment (they are not unknowns; zero is already there).
     if (!conditions_.isZero(PrescribedField::Increment))
-      conditions_.template write<Exec>(d, DC::UX, PrescribedField::Increment);
+      conditions_.template write<Exec>(d, DC::UX, PrescribedField::Increment, ds);
   }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
 }
@@ -283,6 +394,11 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
       fbar_->template accumulate<Exec>(ps_, 1.0);
       scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f,
                                                   FC::ForceX, fbar_->correction(ps_));
+    } else if (fields_ > 1) {
+      const FieldColumns dispFields(ps_, conditions_.fieldOfBody(), dispStride_);
+      const FieldColumns forceFields(ps_, conditions_.fieldOfBody(), forceStride_);
+      scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f,
+                                                  FC::ForceX, NoStrainCorrection(), dispFields, forceFields);
     } else {
       scatterTrialInternalForce<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, mat_, d, DC::UX, f,
                                                   FC::ForceX);
@@ -293,6 +409,7 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   }
   forceOwned_->putScalar(0.0);
   forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
+  if (fields_ > 1) addContactForces();
   const auto atNode = newmarkResidualAtNode<Dim>(stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
                                                  forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
                                                  NewmarkConstants(opt_.newmark, dt_), opt_.consistentMass);
@@ -300,9 +417,11 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   auto r = R.getLocalViewDevice(Tpetra::Access::OverwriteAll);
   auto node = dofs_.node();
   auto comp = dofs_.component();
+  auto field = dofs_.field();
+  const int ss = stateStride_, fs = forceStride_;
   Kokkos::parallel_for(
       "implicit_residual", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
-      KOKKOS_LAMBDA(int k) { r(k, 0) = atNode(node(k), comp(k), uv(k, 0)); });
+      KOKKOS_LAMBDA(int k) { r(k, 0) = atNode(node(k), comp(k), uv(k, 0), field(k) * ss, field(k) * fs); });
   if (!conditions_.empty()) {  // forceOwned_ now holds the forces at u (recordReactions reuses them)
     if (lastResidualPoint_.is_null() || lastResidualPoint_->getMap().get() != dofs_.map().get())
       lastResidualPoint_ = Teuchos::rcp(new Vector(dofs_.map(), false));
@@ -349,7 +468,18 @@ void ImplicitNewmark<Shape, Dim>::recordReactions(const Vector& u) {
                                                  forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
                                                  NewmarkConstants(opt_.newmark, dt_), opt_.consistentMass);
   auto disp = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-  conditions_.template recordReaction<Exec>(KOKKOS_LAMBDA(int n, int d) { return atNode(n, d, disp(n, DC::UX + d)); });
+  if (fields_ > 1) {  // summed over the fields
+    const int fields = fields_, ss = stateStride_, ds = dispStride_, fs = forceStride_;
+    conditions_.template recordReaction<Exec>(KOKKOS_LAMBDA(int n, int d) {
+      double sum = 0.0;
+      for (int b = 0; b < fields; ++b) sum += atNode(n, d, disp(n, b * ds + DC::UX + d), b * ss, b * fs);
+      return sum;
+    });
+    conditions_.recordContactForces(contactPairForce_);
+  } else {
+    conditions_.template recordReaction<Exec>(
+        KOKKOS_LAMBDA(int n, int d) { return atNode(n, d, disp(n, DC::UX + d)); });
+  }
   if (conditions_.hasWalls()) conditions_.template recordImplicitWallReactions<Exec>(heldWallReaction());
 }
 
@@ -419,14 +549,16 @@ double ImplicitNewmark<Shape, Dim>::residualMagnitude(const Vector& u) {
     auto out = sum.getLocalViewDevice(Tpetra::Access::ReadWrite);
     auto node = dofs_.node();
     auto comp = dofs_.component();
+    auto field = dofs_.field();
+    const int ss = stateStride_;
     const NewmarkConstants k(opt_.newmark, dt_);
     const double c1 = k.c1, c2 = k.c2, c3 = k.c3;
     Kokkos::parallel_for(
         "residual_magnitude", Kokkos::RangePolicy<Exec>(0, node.extent(0)), KOKKOS_LAMBDA(int i) {
-          const int n = node(i), d = comp(i);
-          const double m = s(n, SC::Mass);
-          const double start =
-              std::fabs(m * (c2 * s(n, SC::VelX + d) + c3 * s(n, SC::AccX + d))) + std::fabs(s(n, SC::FextX + d));
+          const int n = node(i), d = comp(i), o = field(i) * ss;
+          const double m = s(n, o + SC::Mass);
+          const double start = std::fabs(m * (c2 * s(n, o + SC::VelX + d) + c3 * s(n, o + SC::AccX + d))) +
+                               std::fabs(s(n, o + SC::FextX + d));
           out(i, 0) = (withP ? out(i, 0) : m * c1 * au(i, 0)) + start;
         });
   }
@@ -438,14 +570,28 @@ double ImplicitNewmark<Shape, Dim>::residualMagnitude(const Vector& u) {
 template <class Shape, int Dim>
 BlockMatrices ImplicitNewmark<Shape, Dim>::stiffnessBlocks(bool trialTangent) const {
   const StructuredGrid& g = dist_.grid();
+  // With several fields, each block belongs to its particle's body's field.
+  const auto withFieldOf = [&](BlockMatrices blocks, Kokkos::View<const int*, DeviceType> particle) {
+    if (fields_ == 1) return blocks;
+    blocks.field = Kokkos::View<int*, DeviceType>("block_field", blocks.count);
+    auto out = blocks.field;
+    auto body = ps_.body;
+    auto fieldOf = conditions_.fieldOfBody();
+    const bool perParticle = particle.extent(0) == 0;
+    Kokkos::parallel_for(
+        "stiffness_block_field", Kokkos::RangePolicy<Exec>(0, blocks.count),
+        KOKKOS_LAMBDA(int k) { out(k) = fieldOf(body(perParticle ? k : particle(k))); });
+    return blocks;
+  };
   if constexpr (Dim == 2) {
     if (seedGimpStiffness_) {
       const ParticleCellPairs pairs = buildParticleCellPairs<Exec>(g, ps_, false);
-      return overlapStiffness<Exec>(g, pairs, ps_, mat_.law());
+      return withFieldOf(overlapStiffness<Exec>(g, pairs, ps_, mat_.law()), pairs.particle);
     }
   }
   const double massFactor = opt_.consistentMass ? opt_.newmark.c1(dt_) : 0.0;
-  return stencilStiffness<Exec, Shape, Dim>(g, ps_, mat_.law(), massFactor, trialTangent);
+  return withFieldOf(stencilStiffness<Exec, Shape, Dim>(g, ps_, mat_.law(), massFactor, trialTangent),
+                     Kokkos::View<const int*, DeviceType>());
 }
 
 // P = c1 M + K over the free dofs (K over particle-cell pairs, exact over overlaps for GIMP).
@@ -510,18 +656,22 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
   {
     auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const int fields = fields_, ss = stateStride_, ds = dispStride_;
     Kokkos::parallel_for(
         "implicit_grid_acceleration", Kokkos::RangePolicy<Exec>(0, d.extent(0)), KOKKOS_LAMBDA(int n) {
-          for (int c = 0; c < Dim; ++c) {
-            const bool free = s(n, SC::FreeX + c) > 0.5;
-            const double a = s(n, SC::AccX + c);
-            const double aNew = free ? k.newAcceleration(d(n, DC::UX + c), s(n, SC::VelX + c), a) : 0.0;
-            d(n, DC::AnewX + c) = aNew;
-            d(n, DC::DvX + c) = free ? k.velocityChange(a, aNew) : 0.0;
+          for (int b = 0; b < fields; ++b) {
+            const int o = b * ss, q = b * ds;
+            for (int c = 0; c < Dim; ++c) {
+              const bool free = s(n, o + SC::FreeX + c) > 0.5;
+              const double a = s(n, o + SC::AccX + c);
+              const double aNew = free ? k.newAcceleration(d(n, q + DC::UX + c), s(n, o + SC::VelX + c), a) : 0.0;
+              d(n, q + DC::AnewX + c) = aNew;
+              d(n, q + DC::DvX + c) = free ? k.velocityChange(a, aNew) : 0.0;
+            }
           }
         });
-    conditions_.template write<Exec>(d, DC::AnewX, PrescribedField::Acceleration);
-    conditions_.template write<Exec>(d, DC::DvX, PrescribedField::VelocityChange);
+    conditions_.template write<Exec>(d, DC::AnewX, PrescribedField::Acceleration, ds);
+    conditions_.template write<Exec>(d, DC::DvX, PrescribedField::VelocityChange, ds);
     if (conditions_.hasWalls()) {
       conditions_.implicitWalls().template stop<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt);
       conditions_.template rubImplicitWalls<Exec>(d, DC::AnewX, DC::DvX, s, SC::Mass, SC::VelX, heldWallReaction(), dt,
@@ -553,7 +703,9 @@ template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::updateParticles() {
   using DC = implicit::DisplacementColumns<Dim>;
   auto d = dispGhosted_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-  gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX);
+  withFields(dispStride_, [&](const auto& columns) {
+    gridGradientAtParticles<Exec, Shape, Dim>(dist_.grid(), dist_.ghostedIndexer(), ps_, d, DC::UX, columns);
+  });
   const DomainConvection domain = ConvectsDomain<Shape>::value ? DomainConvection(dist_.grid()) : DomainConvection();
   if (fbar_) {
     fbar_->template accumulate<Exec>(ps_, 1.0);
@@ -579,30 +731,33 @@ void ImplicitNewmark<Shape, Dim>::updateParticles() {
   const double c1 = k.c1, c2 = k.c2, c3 = k.c3, dt = k.dt, gamma = k.gamma;
   const bool consistent = opt_.consistentMass, fixed = opt_.fixedParticles;
   const bool gridIncrement = equilibriumAcceleration();
-  Kokkos::parallel_for(
-      "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
-        const ParticleStencil<Shape, Dim> stn(g, x, hs, deformation, p);
-        double u[Dim] = {}, an[Dim] = {}, dv[Dim] = {};
-        stn.forEachNode(ix, [&](int n, double w, const double*) {
+  withFields(dispStride_, [&](const auto& fields) {
+    Kokkos::parallel_for(
+        "implicit_g2p", Kokkos::RangePolicy<Exec>(0, ps_.count), KOKKOS_LAMBDA(int p) {
+          const ParticleStencil<Shape, Dim> stn(g, x, hs, deformation, p);
+          double u[Dim] = {}, an[Dim] = {}, dv[Dim] = {};
+          const int o = fields.offset(p);
+          stn.forEachNode(ix, [&](int n, double w, const double*) {
+            for (int c = 0; c < Dim; ++c) {
+              u[c] += w * d(n, o + DC::UX + c);
+              an[c] += w * d(n, o + DC::AnewX + c);
+              dv[c] += w * d(n, o + DC::DvX + c);
+            }
+          });
           for (int c = 0; c < Dim; ++c) {
-            u[c] += w * d(n, DC::UX + c);
-            an[c] += w * d(n, DC::AnewX + c);
-            dv[c] += w * d(n, DC::DvX + c);
+            if (consistent) an[c] = c1 * u[c] - c2 * v(p, c) - c3 * a(p, c);  // the particle's own Newmark update
+            if (fixed)
+              up(p, c) += u[c];
+            else
+              x(p, c) += u[c];
+            if (gridIncrement)
+              v(p, c) += dv[c];
+            else
+              v(p, c) += dt * ((1 - gamma) * a(p, c) + gamma * an[c]);
+            a(p, c) = an[c];
           }
         });
-        for (int c = 0; c < Dim; ++c) {
-          if (consistent) an[c] = c1 * u[c] - c2 * v(p, c) - c3 * a(p, c);  // the particle's own Newmark update
-          if (fixed)
-            up(p, c) += u[c];
-          else
-            x(p, c) += u[c];
-          if (gridIncrement)
-            v(p, c) += dv[c];
-          else
-            v(p, c) += dt * ((1 - gamma) * a(p, c) + gamma * an[c]);
-          a(p, c) = an[c];
-        }
-      });
+  });
 }
 
 // APIC and TPIC: the grid velocity at t + dt, v_i + dv_i, and a_new on every ghosted node; then

@@ -33,7 +33,8 @@ StiffnessAssembler<Dim>::StiffnessAssembler(const GridDistribution& dist, int bl
 // Visits every (block, r nd + c, row gid, column gid) coupling of two free dofs of a block.
 template <int Dim>
 template <class Visit>
-void StiffnessAssembler<Dim>::forEachBlockCoupling(const MultiVector& stateGhosted, int freeX, Visit&& visit) const {
+void StiffnessAssembler<Dim>::forEachBlockCoupling(const MultiVector& stateGhosted, int freeX,
+                                                   const FreeDofMap<Dim>& dofs, Visit&& visit) const {
   auto sg = stateGhosted.getLocalViewHost(Tpetra::Access::ReadOnly);
   const LocalNodeIndexer& gix = dist_.ghostedIndexer();
   const auto ghostMap = dist_.ghostedNodeMap();
@@ -41,24 +42,26 @@ void StiffnessAssembler<Dim>::forEachBlockCoupling(const MultiVector& stateGhost
   const int nd = nd_, nodeCount = b.nodeCount();
   std::vector<GO> gid(nd);
   std::vector<char> freeDof(nd);
-  for (int ci = 0; ci < b.count[0]; ++ci)
-    for (int cj = 0; cj < b.count[1]; ++cj)
-      for (int ck = 0; ck < b.count[2]; ++ck) {
-        const int bi = b.first[0] + ci * b.stride, bj = b.first[1] + cj * b.stride, bk = b.first[2] + ck * b.stride;
-        for (int a = 0; a < nodeCount; ++a) {
-          const int i = bi + a % b.nodes[0], j = bj + (a / b.nodes[0]) % b.nodes[1],
-                    k = bk + a / (b.nodes[0] * b.nodes[1]);
-          const bool inBox = gix.contains(i, j, k);
-          const int ln = inBox ? gix(i, j, k) : 0;
-          for (int d = 0; d < Dim; ++d) {
-            gid[Dim * a + d] = inBox ? FreeDofMap<Dim>::gid(ghostMap->getGlobalElement(ln), d) : -1;
-            freeDof[Dim * a + d] = inBox && sg(ln, freeX + d) > 0.5;
+  for (int f = 0; f < fields_; ++f)
+    for (int ci = 0; ci < b.count[0]; ++ci)
+      for (int cj = 0; cj < b.count[1]; ++cj)
+        for (int ck = 0; ck < b.count[2]; ++ck) {
+          const int bi = b.first[0] + ci * b.stride, bj = b.first[1] + cj * b.stride, bk = b.first[2] + ck * b.stride;
+          for (int a = 0; a < nodeCount; ++a) {
+            const int i = bi + a % b.nodes[0], j = bj + (a / b.nodes[0]) % b.nodes[1],
+                      k = bk + a / (b.nodes[0] * b.nodes[1]);
+            const bool inBox = gix.contains(i, j, k);
+            const int ln = inBox ? gix(i, j, k) : 0;
+            for (int d = 0; d < Dim; ++d) {
+              gid[Dim * a + d] = inBox ? dofs.gid(ghostMap->getGlobalElement(ln), d, f) : -1;
+              freeDof[Dim * a + d] = inBox && sg(ln, freeX + f * stride_ + d) > 0.5;
+            }
           }
+          const long block = b.index(bi, bj, bk) + f * b.size();
+          for (int r = 0; r < nd; ++r)
+            for (int c = 0; c < nd; ++c)
+              if (freeDof[r] && freeDof[c]) visit(block, r * nd + c, gid[r], gid[c]);
         }
-        for (int r = 0; r < nd; ++r)
-          for (int c = 0; c < nd; ++c)
-            if (freeDof[r] && freeDof[c]) visit(b.index(bi, bj, bk), r * nd + c, gid[r], gid[c]);
-      }
 }
 
 template <int Dim>
@@ -68,8 +71,9 @@ bool StiffnessAssembler<Dim>::updatePattern(const MultiVector& stateGhosted, int
     auto sg = stateGhosted.getLocalViewHost(Tpetra::Access::ReadOnly);
     const auto ghostMap = dist_.ghostedNodeMap();
     for (size_t n = 0; n < sg.extent(0); ++n)
-      for (int d = 0; d < Dim; ++d)
-        if (sg(n, freeX + d) > 0.5) key.push_back(FreeDofMap<Dim>::gid(ghostMap->getGlobalElement((LO)n), d));
+      for (int f = 0; f < fields_; ++f)
+        for (int d = 0; d < Dim; ++d)
+          if (sg(n, freeX + f * stride_ + d) > 0.5) key.push_back(dofs.gid(ghostMap->getGlobalElement((LO)n), d, f));
   }
   const int sameHere = (!P_.is_null() && key == patternKey_) ? 1 : 0;
   int same = 0;
@@ -84,7 +88,7 @@ template <int Dim>
 void StiffnessAssembler<Dim>::buildGraph(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs) {
   const auto unknownMap = dofs.map();
   std::map<GO, std::vector<GO>> rows;
-  forEachBlockCoupling(stateGhosted, freeX, [&](long, int, GO row, GO col) { rows[row].push_back(col); });
+  forEachBlockCoupling(stateGhosted, freeX, dofs, [&](long, int, GO row, GO col) { rows[row].push_back(col); });
   std::vector<GO> rowGids;
   size_t maxPerRow = 1;
   for (auto& [r, cols] : rows) {
@@ -118,11 +122,11 @@ void StiffnessAssembler<Dim>::buildGraph(const MultiVector& stateGhosted, int fr
     while (off < rowPtr(lr + 1) && entries(off) != lc) ++off;
     return long(off);
   };
-  blockOffsets_ = Kokkos::View<long*, DeviceType>("block_offsets", blocks_.size() * nd_ * nd_);
+  blockOffsets_ = Kokkos::View<long*, DeviceType>("block_offsets", fields_ * blocks_.size() * nd_ * nd_);
   auto hb = Kokkos::create_mirror_view(blockOffsets_);
   Kokkos::deep_copy(hb, -1L);
   const long ndd = long(nd_) * nd_;
-  forEachBlockCoupling(stateGhosted, freeX,
+  forEachBlockCoupling(stateGhosted, freeX, dofs,
                        [&](long block, int rc, GO row, GO col) { hb(block * ndd + rc) = offsetOf(row, col); });
   Kokkos::deep_copy(blockOffsets_, hb);
   diagonalOffsets_ = Kokkos::View<long*, DeviceType>("diagonal_offsets", dofs.size());
@@ -147,11 +151,14 @@ void StiffnessAssembler<Dim>::sumBlocks(const BlockMatrices& Kb) const {
   const BlockGrid grid = blocks_;
   auto offsets = blockOffsets_;
   auto O = Kb.origin;
+  auto F = Kb.field;
+  const bool multiField = F.extent(0) > 0;
   const long blockCount = grid.size();
   auto entryOf = KOKKOS_LAMBDA(long i) {
     const long k = i / ndd;
     const long b = grid.index(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0);
-    return b >= 0 && b < blockCount ? offsets(b * ndd + i % ndd) : -1L;
+    const long fieldShift = multiField ? F(k) * blockCount : 0L;
+    return b >= 0 && b < blockCount ? offsets((b + fieldShift) * ndd + i % ndd) : -1L;
   };
   Kokkos::View<long*, DeviceType> start("entry_start", nnz + 1);
   Kokkos::parallel_for(
@@ -194,6 +201,8 @@ void StiffnessAssembler<Dim>::sumBlocksSequential(const BlockMatrices& Kb) const
   auto values = overlapP_->getLocalMatrixDevice().values;
   auto hv = Kokkos::create_mirror_view(values);
   auto O = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.origin);
+  auto F = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.field);
+  const bool multiField = F.extent(0) > 0;
   auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kb.K);
   auto offsets = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), blockOffsets_);
   const long ndd = long(nd_) * nd_;
@@ -207,7 +216,7 @@ void StiffnessAssembler<Dim>::sumBlocksSequential(const BlockMatrices& Kb) const
     const long b = blocks_.index(O(k, 0), O(k, 1), Dim == 3 ? O(k, Dim - 1) : 0);
     if (b < 0 || b >= blocks_.size())
       throw std::logic_error("StiffnessAssembler: a stiffness block starts outside the rank's block grid");
-    const long* off = &offsets(b * ndd);
+    const long* off = &offsets((b + (multiField ? F(k) * blocks_.size() : 0L)) * ndd);
     const double* Kk = blockValues + k * ndd;
     for (long rc = 0; rc < ndd; ++rc)
       if (off[rc] >= 0) sum[off[rc]] += Kk[rc];
@@ -230,9 +239,11 @@ void StiffnessAssembler<Dim>::fill(const BlockMatrices& blocks, const FreeDofMap
     auto m = lumpedMass->getLocalViewDevice(Tpetra::Access::ReadOnly);
     auto diagonal = diagonalOffsets_;
     auto node = dofs.node();
+    auto field = dofs.field();
+    const int stride = stride_;
     Kokkos::parallel_for(
         "stiffness_lumped_mass", Kokkos::RangePolicy<Exec>(0, diagonal.extent(0)),
-        KOKKOS_LAMBDA(int k) { values(diagonal(k)) += massFactor * m(node(k), massColumn); });
+        KOKKOS_LAMBDA(int k) { values(diagonal(k)) += massFactor * m(node(k), massColumn + field(k) * stride); });
   }
   overlapP_->fillComplete(unknownMap, unknownMap);
   P_->resumeFill();

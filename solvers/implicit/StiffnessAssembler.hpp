@@ -36,6 +36,14 @@ class StiffnessAssembler {
   StiffnessAssembler(const GridDistribution& dist, int blockNodes, int blockStride,
                      StiffnessFill fill = StiffnessFill::Auto);
 
+  // Several velocity fields (multi-field contact): field f's free flags and mass sit f * stride
+  // columns after field 0's, its dofs are FreeDofMap's field f, and a block couples the dofs of
+  // its own field (BlockMatrices::field).
+  void setFields(int fields, int stride) {
+    fields_ = fields;
+    stride_ = stride;
+  }
+
   // The graph for the free dofs flagged (> 1/2) in columns freeX.. of the ghosted grid state;
   // kept while that set is unchanged on every rank. Collective. True when (re)built.
   bool updatePattern(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs);
@@ -66,7 +74,8 @@ class StiffnessAssembler {
     int nodeCount() const { return nodes[0] * nodes[1] * nodes[2]; }
   };
   template <class Visit>
-  void forEachBlockCoupling(const MultiVector& stateGhosted, int freeX, Visit&& visit) const;
+  void forEachBlockCoupling(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs,
+                            Visit&& visit) const;
   void buildGraph(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs);
   void sumBlocks(const BlockMatrices& blocks) const;            // the parallel gather
   void sumBlocksSequential(const BlockMatrices& blocks) const;  // one pass, block after block
@@ -74,6 +83,7 @@ class StiffnessAssembler {
   const GridDistribution& dist_;
   BlockGrid blocks_;
   int nd_ = 0;  // dofs per block
+  int fields_ = 1, stride_ = 0;
   bool parallelFill_ = false;
   Teuchos::RCP<CrsMatrix> P_, overlapP_;
   Teuchos::RCP<const Export> exporter_;

@@ -16,11 +16,14 @@ namespace impm {
 // Small strain: sigma_n + D sym(grad u) on the step's initial domain. Finite strain:
 // F = (I + grad u) F_n and the law's stress there; a path-dependent law works on a copy of the
 // history (the trial state is discarded). `correct` may replace grad u (F-bar:
-// core/kernels/FbarAveraging.hpp).
-template <class Exec, class Shape, int Dim, class DispView, class ForceView, class Correction = NoStrainCorrection>
+// core/kernels/FbarAveraging.hpp). With several velocity fields, each particle reads and writes
+// its own field's columns (dispFields in d, forceFields in f).
+template <class Exec, class Shape, int Dim, class DispView, class ForceView, class Correction = NoStrainCorrection,
+          class DispFields = SingleField, class ForceFields = SingleField>
 void scatterTrialInternalForce(const StructuredGrid& grid, const LocalNodeIndexer& ix, const ParticleSet& ps,
                                const Materials& materials, const DispView& d, int uX, const ForceView& f, int fX,
-                               const Correction& correct = Correction()) {
+                               const Correction& correct = Correction(), const DispFields& dispFields = DispFields(),
+                               const ForceFields& forceFields = ForceFields()) {
   auto vol = ps.volume;
   auto sig = ps.stress;
   auto matId = ps.material;
@@ -30,9 +33,10 @@ void scatterTrialInternalForce(const StructuredGrid& grid, const LocalNodeIndexe
   scatterToGrid<Exec, Shape, Dim>(
       "implicit_internal_force", grid, ps, f, KOKKOS_LAMBDA(int p, const ParticleStencil<Shape, Dim>& st, auto& out) {
         double G[Dim][Dim] = {};
+        const int u0 = uX + dispFields.offset(p), f0 = fX + forceFields.offset(p);
         st.forEachNode(ix, [&](int n, double, const double* dw) {
           for (int i = 0; i < Dim; ++i)
-            for (int j = 0; j < Dim; ++j) G[i][j] += d(n, uX + i) * dw[j];
+            for (int j = 0; j < Dim; ++j) G[i][j] += d(n, u0 + i) * dw[j];
         });
         correct(p, G);
         double trial[StressLayout<Dim>::count];
@@ -51,10 +55,10 @@ void scatterTrialInternalForce(const StructuredGrid& grid, const LocalNodeIndexe
           if (withHistory)
             for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
           law.template stress<Dim>(m, trial, G, F, withHistory ? h : nullptr, trial);
-          scatterInternalForceDeformed(st, ix, vol(p), trial, G, out, fX);
+          scatterInternalForceDeformed(st, ix, vol(p), trial, G, out, f0);
         } else {
           law.linearElastic(m).template stress<Dim>(trial, G, trial);
-          scatterInternalForce(st, ix, vol(p), trial, out, fX);
+          scatterInternalForce(st, ix, vol(p), trial, out, f0);
         }
       });
 }
@@ -68,13 +72,14 @@ struct NewmarkResidualAtNode {
   ForceView f;
   double c1, c2, c3;
   bool consistentMass;
-  KOKKOS_INLINE_FUNCTION double operator()(int n, int d, double u) const {
+  // (With several velocity fields: the field's state and force columns start at so and fo.)
+  KOKKOS_INLINE_FUNCTION double operator()(int n, int d, double u, int so = 0, int fo = 0) const {
     using SC = implicit::StateColumns<Dim>;
     using FC = implicit::ForceColumns<Dim>;
-    const double m = s(n, SC::Mass);
-    const double inertia = consistentMass ? c1 * f(n, FC::MassProductX + d) : m * c1 * u;
-    return inertia - m * (c2 * s(n, SC::VelX + d) + c3 * s(n, SC::AccX + d)) - f(n, FC::ForceX + d) -
-           s(n, SC::FextX + d);
+    const double m = s(n, so + SC::Mass);
+    const double inertia = consistentMass ? c1 * f(n, fo + FC::MassProductX + d) : m * c1 * u;
+    return inertia - m * (c2 * s(n, so + SC::VelX + d) + c3 * s(n, so + SC::AccX + d)) - f(n, fo + FC::ForceX + d) -
+           s(n, so + SC::FextX + d);
   }
 };
 

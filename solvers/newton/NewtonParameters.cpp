@@ -155,7 +155,8 @@ RCP<const ParameterList> newtonValidParameters() {
   pl->set("Line Search", "Full Step",
           "how far along each Newton direction to go (NOX's line searches): Full Step (always 1); Backtrack (the full "
           "step when it lowers ||R||, else halve it until ||R|| decreases, at most 'Line Search Iterations' times, "
-          "else take the full step: for large rotations, where full steps overshoot); "
+          "else take the full step: for large rotations, where full steps overshoot; the default with "
+          "'Contact/Type' = Multi Field); "
           "Polynomial (quadratic then cubic interpolation until the Armijo condition holds; one more J v product "
           "per Newton iteration for the slope); More-Thuente (cubic interpolation until the strong Wolfe "
           "conditions hold). The convergence tests judge the full Newton direction, not the damped step",
