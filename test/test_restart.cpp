@@ -165,6 +165,22 @@ TEUCHOS_UNIT_TEST(Restart, MultiFieldContactDisks) {
   checkRestart(deck, "contact_disks", 160, 90, out, success);
 }
 
+// Multi-field contact in the implicit step: the same frictional disks at 10 explicit steps, in
+// contact from the first steps on. The unknowns per field and the lagged preconditioner's P (its
+// rows numbered per field) come back from the checkpoint; across rank counts GMRES and Newton are
+// converged far enough (as in test_partition_independence) for 1e-10.
+TEUCHOS_UNIT_TEST(Restart, ImplicitMultiFieldContactDisks) {
+  ParameterList deck = deckOf("colliding_disks_contact_implicit_gimp.yaml");
+  deck.sublist("Bodies").sublist("lower disk").set("Center X", 0.355).set("Center Y", 0.355);
+  deck.sublist("Bodies").sublist("upper disk").set("Center X", 0.645).set("Center Y", 0.645);
+  deck.sublist("Contact").set("Friction", 0.3);
+  deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 1).set("Plot", false);
+  ParameterList& s = deck.sublist("Implicit Solver");
+  s.set("Linear Tolerance", 1e-12).set("Residual Tolerance", 1e-13).set("Residual Magnitude Tolerance", 0.0);
+  s.set("Maximum Newton Iterations", 30);
+  checkRestart(deck, "implicit_contact_disks", 40, 25, out, success);
+}
+
 // APIC: each particle's affine velocity C_p is part of the checkpoint (and migrates at np 2); a
 // restart without it would start from C_p = 0 and differ from the first step on.
 TEUCHOS_UNIT_TEST(Restart, ApicCollidingDisks) {
