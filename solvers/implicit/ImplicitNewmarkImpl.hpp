@@ -309,9 +309,9 @@ void ImplicitNewmark<Shape, Dim>::correctProjection() {
 // order 1 / alpha of the one the bodies would have without contact (the penalty's compliance).
 // Each field's start acceleration comes from its own body's forces, without contact's: the end
 // force carries the whole impulse. (Correcting the start accelerations by the law, as the explicit
-// step corrects velocities, was tried: its friction then acts on the relative acceleration, not on
-// the slip, and a block on an incline slid 12% too far.) The residual kinks where bodies meet or
-// start to slip; Newton needs a line search there (Backtrack, the default with contact).
+// step corrects velocities, would make its friction act on the relative acceleration rather than
+// on the slip: a block on an incline then slides 12% too far.) The residual kinks where bodies meet
+// or start to slip; Newton needs a line search there (Backtrack, the default with contact).
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::addContactForces() {
   using SC = implicit::StateColumns<Dim>;
