@@ -39,4 +39,17 @@ inline std::vector<std::array<double, 2>> bodyVelocities(const impm::Simulation&
   return out;
 }
 
+// The mean of a history column over the samples at t >= t0.
+inline double meanFrom(const impm::RunResult& r, const std::string& column, double t0) {
+  const std::vector<double>& values = r.reactions.at(column);
+  double sum = 0;
+  int n = 0;
+  for (size_t i = 0; i < r.time.size(); ++i)
+    if (r.time[i] >= t0) {
+      sum += values[i];
+      ++n;
+    }
+  return sum / n;
+}
+
 }  // namespace impm_test
