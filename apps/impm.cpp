@@ -55,6 +55,55 @@ void usage(std::ostream& os) {
   os << "usage: impm DECK.{yaml,xml} [--output DIR] [--restart CHECKPOINT_DIR] [--timers]\n"
         "       impm --help | --print-defaults\n";
 }
+
+struct CommandLine {
+  std::string deckPath, outputDir, restartDir;
+  int exitCode = -1;  // >= 0: exit with it (a bad command line, reported on rank 0)
+};
+
+// The deck, --output, --restart and --timers; one message for anything else.
+CommandLine parseCommandLine(int argc, char** argv, bool root) {
+  CommandLine line;
+  auto fail = [&](const std::string& message, bool withUsage) {
+    if (root && !message.empty()) std::cerr << "impm: error: " << message << "\n";
+    if (root && withUsage) usage(std::cerr);
+    line.exitCode = 2;
+    return line;
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--timers") {
+      impm::PhaseTimer::enabled() = true;
+    } else if (a == "--output") {
+      if (i + 1 >= argc) return fail("--output needs a directory", false);
+      line.outputDir = argv[++i];
+    } else if (a == "--restart") {
+      if (i + 1 >= argc) return fail("--restart needs a checkpoint directory", false);
+      line.restartDir = argv[++i];
+    } else if (a.rfind("--", 0) == 0) {
+      return fail("unknown option '" + a + "'", true);
+    } else if (line.deckPath.empty()) {
+      line.deckPath = a;
+    } else {
+      return fail("more than one deck given ('" + line.deckPath + "', '" + a + "')", false);
+    }
+  }
+  if (line.deckPath.empty()) return fail("", true);
+  return line;
+}
+
+// plot.png (rank 0): computed against exact for each monitor, and the energies when recorded.
+void plotHistory(const Teuchos::ParameterList& deck, const impm::Simulation& sim) {
+  const auto& out = deck.sublist("Output");
+  if (!out.get<bool>("Plot") || !(sim.hasExact() || out.get<bool>("Energy And Momentum"))) return;
+  const std::string title = deck.sublist("Problem").get<std::string>("Name");
+  const std::string cmd =
+      "/usr/bin/python3 '" + plotScript() + "' '" + sim.outputDirectory() + "' --title '" + title + "'";
+  if (std::system(cmd.c_str()) != 0)
+    std::cout << "  warning: the plot could not be written (" << cmd << ")\n";
+  else
+    std::cout << "  plot: " << sim.outputDirectory() << "/plot.png\n";
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,65 +131,21 @@ int main(int argc, char** argv) {
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
 
-  std::string deckPath, outputDir, restartDir;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--timers") {
-      impm::PhaseTimer::enabled() = true;
-    } else if (a == "--output") {
-      if (i + 1 >= argc) {
-        if (root) std::cerr << "impm: error: --output needs a directory\n";
-        return 2;
-      }
-      outputDir = argv[++i];
-    } else if (a == "--restart") {
-      if (i + 1 >= argc) {
-        if (root) std::cerr << "impm: error: --restart needs a checkpoint directory\n";
-        return 2;
-      }
-      restartDir = argv[++i];
-    } else if (a.rfind("--", 0) == 0) {
-      if (root) {
-        std::cerr << "impm: error: unknown option '" << a << "'\n";
-        usage(std::cerr);
-      }
-      return 2;
-    } else if (deckPath.empty()) {
-      deckPath = a;
-    } else {
-      if (root) {
-        std::cerr << "impm: error: more than one deck given ('" << deckPath << "', '" << a << "')\n";
-      }
-      return 2;
-    }
-  }
-  if (deckPath.empty()) {
-    if (root) usage(std::cerr);
-    return 2;
-  }
+  const CommandLine line = parseCommandLine(argc, argv, root);
+  if (line.exitCode >= 0) return line.exitCode;
+  const std::string& deckPath = line.deckPath;
 
   try {
     auto deck = impm::readDeck(deckPath);
     impm::validateDeck(*deck);
-    impm::Simulation sim(*deck, comm, outputDir);
-    if (!restartDir.empty()) sim.restartFrom(restartDir);
+    impm::Simulation sim(*deck, comm, line.outputDir);
+    if (!line.restartDir.empty()) sim.restartFrom(line.restartDir);
     sim.run(std::cout);
     if (impm::PhaseTimer::enabled()) {
       // Collective; the table is printed by rank 0. Only impm's phases (NOX, Belos keep their own).
       Teuchos::TimeMonitor::summarize(comm.ptr(), std::cout, false, true, false, Teuchos::Union, "impm:");
     }
-    // plot.png: computed against exact for each monitor, and the energies when recorded.
-    const auto& out = deck->sublist("Output");
-    if (root && out.get<bool>("Plot") && (sim.hasExact() || out.get<bool>("Energy And Momentum"))) {
-      const std::string script = plotScript();
-      const std::string title = deck->sublist("Problem").get<std::string>("Name");
-      const std::string cmd =
-          "/usr/bin/python3 '" + script + "' '" + sim.outputDirectory() + "' --title '" + title + "'";
-      if (std::system(cmd.c_str()) != 0)
-        std::cout << "  warning: the plot could not be written (" << cmd << ")\n";
-      else
-        std::cout << "  plot: " << sim.outputDirectory() << "/plot.png\n";
-    }
+    if (root) plotHistory(*deck, sim);
   } catch (const impm::DeckError& e) {
     // (A refused checkpoint names --restart itself: solvers/Checkpoint.hpp.)
     const std::string what = e.what();

@@ -22,6 +22,9 @@ struct ShapeInfo {
   double nodeReachCells;   // how far a node's function reaches, in cells (particle domain excluded)
   int stencilNodes1d;      // nodes per direction a particle touches
   int minimumCells;        // cells per direction a stencil needs
+  // Linear MPM: a particle that crosses a cell line alone can be inverted with USL at any time step
+  // (its far nodes' tiny mass takes a huge velocity; doc/method.md, "Cell crossing").
+  bool crossingInverts;
 };
 
 template <class Shape>
@@ -30,17 +33,17 @@ struct ShapeTag {
 };
 
 namespace detail {
-// (name, explicit, fixed, quadratic, domain, corners, reach, nodes, minimum cells)
+// (name, explicit, fixed, quadratic, domain, corners, reach, nodes, minimum cells, crossing inverts)
 inline const std::vector<ShapeInfo>& shapeTable() {
   static const std::vector<ShapeInfo> table = {
-      {"MPM", true, false, false, false, false, 1.0, 2, 1},
-      {"GIMP", true, false, false, true, false, 1.0, 3, 1},
-      {"cpGIMP", true, false, false, true, false, 1.0, 3, 1},
-      {"CPDI", true, false, false, true, true, 1.0, 4, 1},
-      {"B-Spline Quadratic", true, false, false, false, false, 1.5, 3, 2},
-      {"B-Spline Cubic", true, false, false, false, false, 2.0, 4, 3},
-      {"FE Q4", false, true, false, false, false, 1.0, 2, 1},
-      {"FE Q9", false, true, true, false, false, 2.0, 3, 2},
+      {"MPM", true, false, false, false, false, 1.0, 2, 1, true},
+      {"GIMP", true, false, false, true, false, 1.0, 3, 1, false},
+      {"cpGIMP", true, false, false, true, false, 1.0, 3, 1, false},
+      {"CPDI", true, false, false, true, true, 1.0, 4, 1, false},
+      {"B-Spline Quadratic", true, false, false, false, false, 1.5, 3, 2, false},
+      {"B-Spline Cubic", true, false, false, false, false, 2.0, 4, 3, false},
+      {"FE Q4", false, true, false, false, false, 1.0, 2, 1, false},
+      {"FE Q9", false, true, true, false, false, 2.0, 3, 2, false},
   };
   return table;
 }

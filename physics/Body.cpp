@@ -98,35 +98,36 @@ struct TaggedPoint {
   ParticlePoint point;
   int body;
 };
-}  // namespace
 
-ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials& materials,
-                            const GridDistribution& dist, Placement placement, double thickness) {
-  const StructuredGrid& g = dist.grid();
-  const GridBox box{g.x0, g.y0, g.hx, g.hy, g.nx, g.ny};
-  // Every rank fills every body over the whole grid, so that the global id (the position in
-  // this fill) is the same whatever the decomposition; a rank then keeps its own columns.
+// One body's particles: from its Particles File, the elements' Gauss points (FE reference), a 3D
+// lattice box, or a 2D lattice of its shape.
+std::vector<ParticlePoint> bodyPoints(const BodySpec& body, const StructuredGrid& g, Placement placement,
+                                      double thickness) {
+  try {
+    if (!body.particlesFile.empty()) return readParticlesFile(body.particlesFile, g.dim, thickness);
+    if (placement != Placement::Lattice) return gaussPoints(body.rect, g, placement == Placement::GaussQ9, thickness);
+    if (g.dim == 3) {
+      if (!body.rectangle)
+        throw std::invalid_argument("a 3D grid fills Rectangle (box) bodies and Particles Files only");
+      return fillBox(body.rect, g);
+    }
+    // Rectangles on grid lines need no volume scaling; other shapes get their exact area.
+    const GridBox box{g.x0, g.y0, g.hx, g.hy, g.nx, g.ny};
+    return fillShape(*body.shape, box, body.rect.particlesPerCellX, body.rect.particlesPerCellY, thickness, 0, g.nx,
+                     !body.rectangle, body.rect.latticePoints);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("'Bodies/" + body.name + "': " + e.what());
+  }
+}
+
+// Every body's particles over the whole grid, in deck order: the global id of a particle is its
+// position in this list, whatever the decomposition.
+std::vector<TaggedPoint> fillBodies(const std::vector<BodySpec>& bodies, const StructuredGrid& g, Placement placement,
+                                    double thickness) {
   std::vector<TaggedPoint> all;
   for (int b = 0; b < (int)bodies.size(); ++b) {
     const BodySpec& body = bodies[b];
-    std::vector<ParticlePoint> pts;
-    try {
-      if (!body.particlesFile.empty()) {
-        pts = readParticlesFile(body.particlesFile, g.dim, thickness);
-      } else if (placement != Placement::Lattice) {
-        pts = gaussPoints(body.rect, g, placement == Placement::GaussQ9, thickness);
-      } else if (g.dim == 3) {
-        if (!body.rectangle)
-          throw std::invalid_argument("a 3D grid fills Rectangle (box) bodies and Particles Files only");
-        pts = fillBox(body.rect, g);
-      } else {
-        // Rectangles on grid lines need no volume scaling; other shapes get their exact area.
-        pts = fillShape(*body.shape, box, body.rect.particlesPerCellX, body.rect.particlesPerCellY, thickness, 0, g.nx,
-                        !body.rectangle, body.rect.latticePoints);
-      }
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("'Bodies/" + body.name + "': " + e.what());
-    }
+    const std::vector<ParticlePoint> pts = bodyPoints(body, g, placement, thickness);
     // A later body's shape takes the place of the earlier bodies' particles inside it.
     if (body.shape && b > 0) {
       std::vector<TaggedPoint> kept;
@@ -150,18 +151,15 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
       throw std::invalid_argument("'Bodies/" + body.name + "/File': " + std::to_string(pts.size() - inside) +
                                   " particle(s) lie outside the grid");
   }
+  return all;
+}
 
-  std::vector<long long> ids;
-  std::vector<const TaggedPoint*> mine;
-  for (size_t k = 0; k < all.size(); ++k) {
-    const double xp[3] = {all[k].point.x, all[k].point.y, all[k].point.z};
-    if (!dist.ownsPoint(xp)) continue;
-    mine.push_back(&all[k]);
-    ids.push_back((long long)k);
-  }
-
+// The particle set of the points `mine` (global ids `ids`): position, half size, the body's
+// velocity (with its rotation about its centre), mass, volume, body and material.
+ParticleSet particleSetOf(const std::vector<const TaggedPoint*>& mine, const std::vector<long long>& ids,
+                          const std::vector<BodySpec>& bodies, const Materials& materials, int dim) {
   const int n = (int)mine.size();
-  ParticleSet ps(n, g.dim);
+  ParticleSet ps(n, dim);
   auto x = Kokkos::create_mirror_view(ps.x);
   auto hs = Kokkos::create_mirror_view(ps.halfSize);
   auto v = Kokkos::create_mirror_view(ps.v);
@@ -179,7 +177,7 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
     hs(p, 1) = pt.ly;
     v(p, 0) = body.velocityX;
     v(p, 1) = body.velocityY;
-    if (g.dim == 3) {
+    if (dim == 3) {
       x(p, 2) = pt.z;
       hs(p, 2) = pt.lz;
       v(p, 2) = body.velocityZ;
@@ -188,8 +186,8 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
       double C[3][3];
       rotationMatrix(body.angularVelocity, C);
       const double r[3] = {pt.x - body.rotationCenter[0], pt.y - body.rotationCenter[1],
-                           g.dim == 3 ? pt.z - body.rotationCenter[2] : 0.0};
-      for (int i = 0; i < g.dim; ++i)
+                           dim == 3 ? pt.z - body.rotationCenter[2] : 0.0};
+      for (int i = 0; i < dim; ++i)
         for (int j = 0; j < 3; ++j) v(p, i) += C[i][j] * r[j];
     }
     m(p) = materials.density(body.material) * pt.volume;
@@ -209,6 +207,23 @@ ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials
   Kokkos::deep_copy(ps.material, matId);
   Kokkos::deep_copy(ps.id, gid);
   return ps;
+}
+}  // namespace
+
+// Every rank fills every body over the whole grid, so that the global id (the position in this
+// fill) is the same whatever the decomposition; a rank then keeps its own columns.
+ParticleSet createParticles(const std::vector<BodySpec>& bodies, const Materials& materials,
+                            const GridDistribution& dist, Placement placement, double thickness) {
+  const std::vector<TaggedPoint> all = fillBodies(bodies, dist.grid(), placement, thickness);
+  std::vector<long long> ids;
+  std::vector<const TaggedPoint*> mine;
+  for (size_t k = 0; k < all.size(); ++k) {
+    const double xp[3] = {all[k].point.x, all[k].point.y, all[k].point.z};
+    if (!dist.ownsPoint(xp)) continue;
+    mine.push_back(&all[k]);
+    ids.push_back((long long)k);
+  }
+  return particleSetOf(mine, ids, bodies, materials, dist.grid().dim);
 }
 
 void setRotationAffineVelocity(ParticleSet& ps, const std::vector<BodySpec>& bodies) {

@@ -3,10 +3,12 @@
 // the motion of their dofs (a fixed component is the motion 0). The integrators call the hooks
 // below at fixed places in their steps, and each hook both writes the prescribed values into the
 // grid fields and records the force the condition applied (its reaction):
-//   explicit step:  p2g -> grid update -> afterExplicitGridUpdate -> g2p
+//   explicit step:  p2g -> [USF: onStressVelocity -> stress] -> grid update ->
+//                   afterExplicitGridUpdate -> g2p [MUSL: re-map -> onStressVelocity -> stress]
 //   implicit step:  set-up (the start velocity and acceleration written, the dofs marked not
 //                   free) -> Newton on the free dofs, the prescribed increments written into the
-//                   grid displacement at every residual -> the converged residual at the
+//                   grid displacement and the contact penalty added to the forces
+//                   (addImplicitContactForces) at every residual -> the converged residual at the
 //                   prescribed dofs recorded as the reaction -> g2p
 // A dof named by two conditions belongs to the first (the deck refuses two different motions).
 //
@@ -136,6 +138,18 @@ class GridConditions {
     if (hasWalls()) wallContact<ExecSpace>(sums, massCol, sumsStride_, vel, velCol, -1, velStride, false);
   }
 
+  // Explicit hook on the grid velocity the stress is computed from (USF: the start velocity after
+  // p2g; MUSL: the end velocity of the re-mapped momentum), without reactions: the prescribed
+  // velocity written (and a zero acceleration in accCol.., when accCol >= 0), then the contact and
+  // the walls (enforceContact).
+  template <class ExecSpace, class SumsView, class VelocityView>
+  void onStressVelocity(const SumsView& sums, int massCol, int gradCol, const VelocityView& vel, int velCol, int accCol,
+                        int velStride, bool stepEnd) const {
+    write<ExecSpace>(vel, velCol, stepEnd ? PrescribedField::EndVelocity : PrescribedField::StartVelocity, velStride);
+    if (accCol >= 0) write<ExecSpace>(vel, accCol, PrescribedField::Zero, velStride);
+    enforceContact<ExecSpace>(sums, massCol, gradCol, vel, velCol, velStride, stepEnd);
+  }
+
   // Implicit walls: an active set with Coulomb friction (physics/ImplicitWallContact.hpp), driven
   // by the implicit step; recordImplicitWallReactions and rubImplicitWalls sum its forces per wall.
   ImplicitWallContact& implicitWalls() { return implicitWalls_; }
@@ -155,12 +169,50 @@ class GridConditions {
     sumWallReactions();
   }
 
-  // Multi-field contact in the implicit step: the contact law, and the force of each pair of
-  // bodies on its first (3 per pair, this rank's share) of the converged step.
-  const MultiFieldContact& contact() const { return contact_; }
-  void recordContactForces(const std::vector<double>& pairForce) {
-    std::copy(pairForce.begin(), pairForce.end(), localReaction_.end() - pairForce.size());
+  // Implicit hook, at every residual with several fields: the contact between the bodies as a
+  // penalty. endVelocity(n, f, c) is field f's trial end velocity at owned node n (component c);
+  // the contact law turns the fields' trial velocities v_new into v*, and field f's force columns
+  // (forceCol.., forceStride apart) get coefficient m (v* - v_new). The pair forces of this call,
+  // times pairForceFactor, are what recordImplicitContactForces records.
+  template <class ExecSpace, class StateView, class EndVelocity, class ForceView>
+  void addImplicitContactForces(const StateView& s, int massCol, int gradCol, int stateStride,
+                                const EndVelocity& endVelocity, const ForceView& f, int forceCol, int forceStride,
+                                double coefficient, double pairForceFactor) {
+    const int fields = fieldCount(), dim = dim_;
+    if (trialVelocity_.extent(0) != s.extent(0) || trialVelocity_.extent(1) != size_t(fields * dim)) {
+      trialVelocity_ = decltype(trialVelocity_)("contact_trial_velocity", s.extent(0), fields * dim);
+      lawVelocity_ = decltype(trialVelocity_)("contact_law_velocity", s.extent(0), fields * dim);
+    }
+    auto vel = lawVelocity_;
+    auto before = trialVelocity_;
+    Kokkos::parallel_for(
+        "contact_trial_velocity", Kokkos::RangePolicy<ExecSpace>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
+          for (int b = 0; b < fields; ++b)
+            for (int c = 0; c < dim; ++c) {
+              const double vNew = endVelocity(n, b, c);
+              vel(n, b * dim + c) = vNew;
+              before(n, b * dim + c) = vNew;
+            }
+        });
+    contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, vel, 0, -1, dim, dim, dt_, true,
+                                 &implicitPairForce_);
+    Kokkos::parallel_for(
+        "contact_penalty_force", Kokkos::RangePolicy<ExecSpace>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
+          for (int b = 0; b < fields; ++b) {
+            const double m = s(n, b * stateStride + massCol);
+            for (int c = 0; c < dim; ++c)
+              f(n, b * forceStride + forceCol + c) += coefficient * m * (vel(n, b * dim + c) - before(n, b * dim + c));
+          }
+        });
+    for (double& value : implicitPairForce_) value *= pairForceFactor;
   }
+  // The force of each pair of bodies on its first (3 per pair, this rank's share) at the last
+  // addImplicitContactForces: the converged step's, when called after the solve.
+  void recordImplicitContactForces() {
+    std::copy(implicitPairForce_.begin(), implicitPairForce_.end(), localReaction_.end() - implicitPairForce_.size());
+  }
+  // The contact law (its checks; the implicit step's line-search default).
+  const MultiFieldContact& contact() const { return contact_; }
 
   // Multi-field contact: the number of grid velocity fields (1 without contact), each body's
   // field, and where the integrator keeps field f: its particle sums sumsStride * f columns and its
@@ -258,6 +310,9 @@ class GridConditions {
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> wallParams_, wallForce_;
   ImplicitWallContact implicitWalls_;
   MultiFieldContact contact_;
+  // The implicit contact's trial end velocities, the law's answer to them, and its pair forces.
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> trialVelocity_, lawVelocity_;
+  std::vector<double> implicitPairForce_;
   int sumsStride_ = 0, kinStride_ = 0;
   double dt_ = 0.0;
   std::array<bool, int(PrescribedField::Count)> zero_{};

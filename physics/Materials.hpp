@@ -1,9 +1,10 @@
 // The materials of a run: one interface, a table of parameter sets indexed by the particle's
-// material id, and a switch on each row's model (the host side of each model, its deck keys and
-// checks, is in physics/materials/MaterialRegistry.hpp) (cb-geo/mpm's compute_stress/compute_dmatrix,
-// as a Kokkos functor: several materials share one kernel instantiation). Each law lives in
-// its own file under physics/materials/. The kernels in core/ are templated on the law type and
-// call only its device interface:
+// material id, and a switch on each row's model (cb-geo/mpm's compute_stress/compute_dmatrix, as a
+// Kokkos functor). The switch is the one closed list of models, deliberately: a device kernel takes
+// no virtual calls, and one law type keeps one kernel instantiation for every material. The host
+// side of each model (its deck keys, checks, finite strain and history width) is in
+// physics/materials/MaterialRegistry.hpp; each law lives in its own file under physics/materials/.
+// The kernels in core/ are templated on the law type and call only its device interface:
 //   isLinearElastic(m)                small-strain linear elasticity (the kernels' inline fast path)
 //   finiteStrain(m)                   the model is written in the current configuration (the
 //                                     implicit residual then integrates over the deformed
@@ -81,9 +82,15 @@ struct MaterialLaw {
   KOKKOS_FORCEINLINE_FUNCTION bool isLinearElastic(int m) const {
     return model(m) == (int)MaterialModel::LinearElastic;
   }
+  // The device's copies of the registry's finiteStrain and historyWidth > 0 (test_material checks
+  // that they agree for every model).
   KOKKOS_INLINE_FUNCTION bool finiteStrain(int m) const { return model(m) != (int)MaterialModel::LinearElastic; }
   // The elastoplastic models (J2, Drucker-Prager, Mohr-Coulomb): b_e and the equivalent plastic strain.
-  KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const { return model(m) >= (int)MaterialModel::J2Plasticity; }
+  KOKKOS_INLINE_FUNCTION bool hasHistory(int m) const {
+    const int kind = model(m);
+    return kind == (int)MaterialModel::J2Plasticity || kind == (int)MaterialModel::DruckerPrager ||
+           kind == (int)MaterialModel::MohrCoulomb;
+  }
   KOKKOS_FORCEINLINE_FUNCTION LinearElasticModel linearElastic(int m) const {  // inline: a 40-byte return
     return LinearElasticModel{table(m, C11), table(m, C12), table(m, C33), table(m, CZZ), table(m, InvDet)};
   }

@@ -275,6 +275,60 @@ void writeCheckpoint(const std::string& outputDir, const ParameterList& deck, co
   });
 }
 
+namespace {
+
+// A field of header.xml, of the type of the last argument.
+template <class T>
+T headerField(const ParameterList& header, const std::string& where, const std::string& key, T) {
+  if (!header.isType<T>(key))
+    throw CheckpointError(where + "header.xml has no valid '" + key + "' (truncated or not a checkpoint header)");
+  return header.get<T>(key);
+}
+
+// header.xml, checked: complete, of this format and impm version, written for this deck.
+ParameterList readCheckpointHeader(const std::string& dir, const std::string& where, const ParameterList& deck) {
+  const std::string headerPath = dir + "/header.xml";
+  if (!fs::is_directory(dir)) throw CheckpointError(where + "no such directory");
+  if (!fs::exists(headerPath)) throw CheckpointError(where + "not a complete impm checkpoint (no header.xml)");
+  ParameterList header;
+  try {
+    header = *Teuchos::getParametersFromXmlFile(headerPath);
+  } catch (const std::exception&) {
+    throw CheckpointError(where + "header.xml cannot be read (truncated or not a checkpoint header)");
+  }
+  const int format = headerField(header, where, "Format Version", 0);
+  if (format != kCheckpointFormatVersion)
+    throw CheckpointError(where + "checkpoint format version " + std::to_string(format) + "; this impm reads version " +
+                          std::to_string(kCheckpointFormatVersion));
+  const std::string version = headerField(header, where, "impm Version", std::string());
+  if (version != impmVersion())
+    throw CheckpointError(where + "written by impm version '" + version + "'; this is impm version '" + impmVersion() +
+                          "'");
+  if (!header.isSublist("Deck") || !header.isSublist("Rank File Bytes"))
+    throw CheckpointError(where + "header.xml has no Deck or Rank File Bytes (truncated or not a checkpoint header)");
+  const std::string difference = firstDifference(header.sublist("Deck"), normalized(checkpointedDeck(deck)), "");
+  if (!difference.empty()) throw CheckpointError(where + "written for another deck: " + difference);
+  return header;
+}
+
+// Every rank file whole (its size as the header says) before any is read.
+void checkRankFileSizes(const std::string& dir, const std::string& where, const ParameterList& header, int writers) {
+  const ParameterList& sizes = header.sublist("Rank File Bytes");
+  for (int r = 0; r < writers; ++r) {
+    const std::string name = rankFileName(r), path = dir + "/" + name;
+    if (!sizes.isType<std::string>(name)) throw CheckpointError(where + "header.xml does not list " + name);
+    const long long expected = std::stoll(sizes.get<std::string>(name));
+    std::error_code ec;
+    const auto actual = fs::file_size(path, ec);
+    if (ec) throw CheckpointError(where + name + " is missing");
+    if ((long long)actual != expected)
+      throw CheckpointError(where + name + " is truncated or corrupt: " + std::to_string(actual) +
+                            " bytes, header.xml says " + std::to_string(expected));
+  }
+}
+
+}  // namespace
+
 CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& deck, int width, int dim,
                                  const std::function<bool(const double*)>& keep,
                                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
@@ -284,49 +338,12 @@ CheckpointContent readCheckpoint(const std::string& dir, const ParameterList& de
   long long expectedParticles = 0;
   rethrowOnEveryRank(*comm, true, [&] {
     const std::string where = "--restart '" + dir + "': ";
-    const std::string headerPath = dir + "/header.xml";
-    if (!fs::is_directory(dir)) throw CheckpointError(where + "no such directory");
-    if (!fs::exists(headerPath)) throw CheckpointError(where + "not a complete impm checkpoint (no header.xml)");
-    ParameterList header;
-    try {
-      header = *Teuchos::getParametersFromXmlFile(headerPath);
-    } catch (const std::exception&) {
-      throw CheckpointError(where + "header.xml cannot be read (truncated or not a checkpoint header)");
-    }
-    auto field = [&](const std::string& key, auto fallback) {
-      if (!header.isType<decltype(fallback)>(key))
-        throw CheckpointError(where + "header.xml has no valid '" + key + "' (truncated or not a checkpoint header)");
-      return header.get<decltype(fallback)>(key);
-    };
-    const int format = field("Format Version", 0);
-    if (format != kCheckpointFormatVersion)
-      throw CheckpointError(where + "checkpoint format version " + std::to_string(format) +
-                            "; this impm reads version " + std::to_string(kCheckpointFormatVersion));
-    const std::string version = field("impm Version", std::string());
-    if (version != impmVersion())
-      throw CheckpointError(where + "written by impm version '" + version + "'; this is impm version '" +
-                            impmVersion() + "'");
-    if (!header.isSublist("Deck") || !header.isSublist("Rank File Bytes"))
-      throw CheckpointError(where + "header.xml has no Deck or Rank File Bytes (truncated or not a checkpoint header)");
-    const std::string difference = firstDifference(header.sublist("Deck"), normalized(checkpointedDeck(deck)), "");
-    if (!difference.empty()) throw CheckpointError(where + "written for another deck: " + difference);
-    content.step = field("Step", 0);
-    content.time = std::stod(field("Time", std::string()));
-    const int writers = field("Ranks", 0);
-    const long long particles = std::stoll(field("Particles", std::string()));
-    // Every rank file whole (its size as the header says) before any is read.
-    const ParameterList& sizes = header.sublist("Rank File Bytes");
-    for (int r = 0; r < writers; ++r) {
-      const std::string name = rankFileName(r), path = dir + "/" + name;
-      if (!sizes.isType<std::string>(name)) throw CheckpointError(where + "header.xml does not list " + name);
-      const long long expected = std::stoll(sizes.get<std::string>(name));
-      std::error_code ec;
-      const auto actual = fs::file_size(path, ec);
-      if (ec) throw CheckpointError(where + name + " is missing");
-      if ((long long)actual != expected)
-        throw CheckpointError(where + name + " is truncated or corrupt: " + std::to_string(actual) +
-                              " bytes, header.xml says " + std::to_string(expected));
-    }
+    const ParameterList header = readCheckpointHeader(dir, where, deck);
+    content.step = headerField(header, where, "Step", 0);
+    content.time = std::stod(headerField(header, where, "Time", std::string()));
+    const int writers = headerField(header, where, "Ranks", 0);
+    const long long particles = std::stoll(headerField(header, where, "Particles", std::string()));
+    checkRankFileSizes(dir, where, header, writers);
     // Same rank count: this rank's own file, its particles in their order. Otherwise every file,
     // keeping the particles of this rank's cells (and the per-rank arrays of all).
     const bool same = writers == ranks;

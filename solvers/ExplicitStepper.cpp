@@ -135,9 +135,7 @@ void ExplicitStepper<Shape, Dim>::gridUpdate(double dt, bool withForces) {
     conditions_.template afterExplicitGridUpdate<Exec>(acc, A::Mass, A::MomX, A::FextX, A::FintX, geometryCol_, kinv,
                                                        K::VelX, K::AccX, damping);
   } else {  // (update stress first: the velocity at the start of the step)
-    conditions_.template write<Exec>(kinv, K::VelX, PrescribedField::StartVelocity, ks);
-    conditions_.template write<Exec>(kinv, K::AccX, PrescribedField::Zero, ks);
-    conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, kinv, K::VelX, ks, false);
+    conditions_.template onStressVelocity<Exec>(acc, A::Mass, geometryCol_, kinv, K::VelX, K::AccX, ks, false);
   }
 }
 
@@ -243,8 +241,7 @@ void ExplicitStepper<Shape, Dim>::step(double t, double dt) {
                 acc(n, f * ss + A::MomX + d) = m > cutoff ? acc(n, f * ss + A::MomX + d) / m : 0.0;
             }
           });
-      conditions_.template write<Exec>(acc, A::MomX, PrescribedField::EndVelocity, ss);
-      conditions_.template enforceContact<Exec>(acc, A::Mass, geometryCol_, acc, A::MomX, ss, true);
+      conditions_.template onStressVelocity<Exec>(acc, A::Mass, geometryCol_, acc, A::MomX, -1, ss, true);
     }
     fields_.importAccumulated();
     stressFromGhostedVelocity(dt, true);

@@ -44,6 +44,20 @@ struct ParticlesOutOfReach : std::runtime_error {
   std::string advice;
 };
 
+// What the run loop, its observers, the report and the summary take from the deck, read once by
+// the builder (ProblemSection.cpp, IntegratorSection.cpp).
+struct RunSettings {
+  std::string problemName;    // Problem/Name
+  std::string shapeFunction;  // Method/Shape Function
+  int historyInterval = 1;    // Output/...
+  int historyDigits = 10;
+  int vtkInterval = 0;
+  int checkpointInterval = 0;
+  bool progress = true;
+  double stabilityFactor = 1.0;  // Integrator/Explicit/Stability Factor (for the time-step advice)
+  bool updateSchemeUsl = false;  // Integrator/Explicit/Update Scheme = USL (for the time-step advice)
+};
+
 class Simulation {
  public:
   // `deck` must have been through validateDeck(). Throws DeckError for bad values.
@@ -89,7 +103,7 @@ class Simulation {
   void checkInsideGrid(const std::string& key, const BodySpec& body) const;
   void estimateBodySize(const BodySpec& body, size_t fileParticles);
   void readTime();
-  void checkOutputIntervals() const;
+  void readOutputSettings();
   void distribute();
   void createParticlesAndConditions(const std::vector<ConstraintSpec>& cspecs);
   void readManufacturedSolution();
@@ -165,7 +179,10 @@ class Simulation {
   // A point (Particle Force, monitor) farther than one cell diagonal from its nearest particle.
   void checkNearParticle(const std::string& what, const Point& point, const Monitor& nearest) const;
 
+  // The validated deck: the builder's phases read it; a checkpoint stores it and a restart checks
+  // against it (SimulationRestart.cpp). The run loop, observers and summary read settings_.
   Teuchos::ParameterList deck_;
+  RunSettings settings_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   std::string outputDir_;
   std::string outputKey_;  // where outputDir_ comes from, for messages

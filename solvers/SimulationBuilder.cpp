@@ -22,10 +22,10 @@ Simulation::Simulation(const ParameterList& deck, const Teuchos::RCP<const Teuch
   readProblem(outputOverride);  // ProblemSection.cpp
   readGrid();                   // GridSection.cpp
   readMethod();
-  buildMaterials();        // MaterialsSection.cpp
-  buildBodies();           // BodiesSection.cpp
-  readTime();              // IntegratorSection.cpp
-  checkOutputIntervals();  // ProblemSection.cpp
+  buildMaterials();      // MaterialsSection.cpp
+  buildBodies();         // BodiesSection.cpp
+  readTime();            // IntegratorSection.cpp
+  readOutputSettings();  // ProblemSection.cpp
   checkProblemSize(deck_.sublist("Integrator").get<std::string>("Type") == "Implicit");
   std::vector<ConstraintSpec> cspecs = buildConstraints();  // ConditionsSection.cpp
   distribute();                                             // GridSection.cpp (Decomposition)
@@ -48,7 +48,7 @@ void Simulation::createParticlesAndConditions(const std::vector<ConstraintSpec>&
   }
   applyGeostaticStresses();
   checkConditionsReached(cspecs);
-  wallSpecs_ = buildWalls();  // ConditionsSection.cpp
+  wallSpecs_ = buildWalls();  // WallsSection.cpp
   checkParticlesBesideWalls(wallSpecs_);
   contactSpec_ = buildContact();  // ContactSection.cpp
   constraints_ = GridConditions(cspecs, *dist_, wallSpecs_, contactSpec_);

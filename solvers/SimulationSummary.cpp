@@ -80,8 +80,8 @@ void addMonitors(ParameterList& s, const std::vector<Monitor>& monitors, int dim
 
 void Simulation::writeSummary(const RunResult& r) const {
   ParameterList s("summary");
-  s.set("Problem", deck_.sublist("Problem").get<std::string>("Name"));
-  s.set("Method", deck_.sublist("Method").get<std::string>("Shape Function"));
+  s.set("Problem", settings_.problemName);
+  s.set("Method", settings_.shapeFunction);
   s.set("Integrator", integrator_->name());
   s.set("Plane Condition", materials_.planeName());
   s.set("Bodies", (int)bodies_.size());

@@ -118,12 +118,14 @@ expect_failure(output_is_file "Name:" "Name:" "exists and is not a directory" OU
 set(good "${good_disks}")
 expect_failure(void_node_force "  Monitors:" "  Loads:\n    corner push:\n      Type: Node Force\n      X: 0.95\n      Y: 0.05\n      Force X: 1.0\n  Monitors:"
                "'Loads/corner push/Type' = Node Force at (0.95, 0.05): no particle reaches this grid node" NP 2)
-# Prescribed motion (physics/GridConditions.hpp): a moving condition no particle reaches, two
-# conditions with different motions of one dof, a time table whose times do not increase, a
-# value on a component the condition does not prescribe, and a value with Motion = Fixed. (The
-# script reads stderr with ";" turned into ",".)
+# Prescribed motion (physics/GridConditions.hpp): a moving condition or a fixed node that no
+# particle reaches, two conditions with different motions of one dof, a time table whose times do
+# not increase, a value on a component the condition does not prescribe, and a value with Motion =
+# Fixed. (The script reads stderr with ";" turned into ",".)
 expect_failure(void_prescribed_motion "  Monitors:" "  Constraints:\n    corner grip:\n      Where: Node\n      X: 0.95\n      Y: 0.05\n      Motion: Velocity\n      Value X: 1.0\n  Monitors:"
                "'Constraints/corner grip/Motion' = Velocity: no particle reaches its grid nodes" NP 2)
+expect_failure(void_fixed_node "  Monitors:" "  Constraints:\n    corner pin:\n      Where: Node\n      X: 0.95\n      Y: 0.05\n  Monitors:"
+               "'Constraints/corner pin/Motion' = Fixed: no particle reaches its grid nodes at t = 0, so it would hold nothing")
 set(good "${good_bar}")
 set(pull "    rigid mode:\n      Where: Node\n      X: 0.0\n      Y: 0.0\n      Components: y\n    pull:\n      Where: Face\n      Face: x+\n      Components: x\n      Motion: Velocity\n      Value X: 0.1\n")
 expect_failure(conflicting_motions "    rigid mode:\n      Where: Node\n      X: 0.0\n      Y: 0.0\n      Components: y\n"

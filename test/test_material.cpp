@@ -11,6 +11,7 @@
 #include <random>
 
 #include "physics/Materials.hpp"
+#include "physics/materials/MaterialRegistry.hpp"
 #include "test/ElastoplasticDriver.hpp"
 
 namespace {
@@ -83,6 +84,33 @@ void checkLaw(PlaneCondition plane, Teuchos::FancyOStream& out, bool& success) {
     }
     out << Dim << "D " << materials.planeName() << ", material " << m << ": |dW/deps - sigma| <= " << worstStress
         << " of c11 x 1e-3, |dsigma/deps - D| <= " << worstTangent << " of c11\n";
+  }
+}
+
+// The device law's model flags (the kernels' branches) are copies of the registry's facts: each
+// model's finiteStrain and whether it has history (historyWidth > 0) must agree, or a new model
+// would be integrated in the wrong configuration or lose its history.
+TEUCHOS_UNIT_TEST(Material, DeviceFlagsAgreeWithTheRegistry) {
+  for (const impm::MaterialModelInfo& info : impm::materialModels()) {
+    MaterialParameters p;
+    p.E = 1e6;
+    p.nu = 0.3;
+    p.model = info.model;
+    const Materials materials(std::vector<MaterialParameters>{p}, PlaneCondition::PlaneStrain);
+    const auto law = materials.law();
+    int flags = 0;
+    Kokkos::parallel_reduce(
+        "flags", Kokkos::RangePolicy<impm::ExecutionSpace>(0, 1),
+        KOKKOS_LAMBDA(int, int& f) {
+          f += (law.finiteStrain(0) ? 1 : 0) + (law.hasHistory(0) ? 2 : 0) + (law.isLinearElastic(0) ? 4 : 0);
+        },
+        flags);
+    const bool finite = flags & 1, history = flags & 2, linear = flags & 4;
+    out << info.name << ": finite strain " << finite << " (registry " << info.finiteStrain << "), history " << history
+        << " (registry width " << info.historyWidth << ")\n";
+    TEST_EQUALITY(finite, info.finiteStrain);
+    TEST_EQUALITY(history, info.historyWidth > 0);
+    TEST_EQUALITY(linear, !info.finiteStrain);
   }
 }
 

@@ -213,7 +213,8 @@ TEUCHOS_UNIT_TEST(PrescribedMotion, RigidTranslationLeavesTheBodyUnstressed) {
 // two implicit steps of 1 s (omega dt ~ 1e3: quasi-static) and held for four more: the base's
 // reaction balances weight plus traction. The residual summed over all dofs is the reaction plus
 // the grid's inertia (internal forces sum to zero); averaged over two steps the inertia of the
-// sawtooth cancels, leaving the solver tolerance: bound 1e-5.
+// sawtooth cancels but for 4.05e-9 of the load (measured, the same with both Jacobians, so not the
+// Newton tolerance): bound 1e-7 on the balance, 1e-9 on the sideways reaction (measured 3e-14).
 TEUCHOS_UNIT_TEST(PrescribedMotion, StaticReactionsBalanceTheLoads) {
   auto comm = Tpetra::getDefaultComm();
   for (const std::string jacobian : {"Assembled", "Jacobian-Free"}) {
@@ -256,8 +257,8 @@ TEUCHOS_UNIT_TEST(PrescribedMotion, StaticReactionsBalanceTheLoads) {
     const double ry = 0.5 * (Ry[n - 1] + Ry[n - 2]), rx = 0.5 * (Rx[n - 1] + Rx[n - 2]);
     out << jacobian << ": base reaction (" << rx << ", " << ry << ") N against weight + traction " << load
         << " N: relative imbalance " << std::abs(ry - load) / load << "\n";
-    TEST_COMPARE(std::abs(ry - load) / load, <, 1e-5);
-    TEST_COMPARE(std::abs(rx) / load, <, 1e-5);
+    TEST_COMPARE(std::abs(ry - load) / load, <, 1e-7);
+    TEST_COMPARE(std::abs(rx) / load, <, 1e-9);
   }
 }
 

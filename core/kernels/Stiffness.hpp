@@ -74,6 +74,55 @@ KOKKOS_INLINE_FUNCTION void addBtDB(const KView& K, int k, int nn, const double 
         }
   }
 }
+
+// The trial state of particle p (Assembled Newton on finite strain): G from its gradient view,
+// the stress s of the law at F = (I + G) F_n (from a copy of the particle's history), the volume
+// Vp times det(I + G), and the nn node gradients moved onto the deformed domain, (I + G)^-T grad S.
+template <int Dim, class Law, class GradientView, class DeformationView, class HistoryView>
+KOKKOS_INLINE_FUNCTION void moveToTrialState(const Law& law, int mat, int p, const GradientView& Gp,
+                                             const DeformationView& Fp, const HistoryView& hist, bool withHistory,
+                                             double (&G)[Dim][Dim], double* s, double& Vp, int nn,
+                                             double (*grad)[Dim]) {
+  double dF[Dim][Dim], inv[Dim][Dim], F[Dim][Dim], Fn[Dim][Dim];
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j) {
+      G[i][j] = Gp(p, i, j);
+      dF[i][j] = (i == j ? 1.0 : 0.0) + G[i][j];
+      Fn[i][j] = Fp(p, i, j);
+    }
+  multiply<Dim>(dF, Fn, F);
+  const double Jd = determinant<Dim>(dF);
+  inverse<Dim>(dF, Jd, inv);
+  double hTrial[ParticleSet::kHistoryCount];  // the stress update's copy (the trial state is discarded)
+  if (withHistory)
+    for (int i = 0; i < ParticleSet::kHistoryCount; ++i) hTrial[i] = hist(p, i);
+  law.template stress<Dim>(mat, s, G, F, withHistory ? hTrial : nullptr, s);
+  Vp *= Jd;
+  for (int n = 0; n < nn; ++n) {
+    double gn[Dim];
+    for (int j = 0; j < Dim; ++j) {
+      double v = 0;
+      for (int k = 0; k < Dim; ++k) v += inv[k][j] * grad[n][k];
+      gn[j] = v;
+    }
+    for (int j = 0; j < Dim; ++j) grad[n][j] = gn[j];
+  }
+}
+
+// The geometric (initial-stress) term of the current-configuration tangent:
+// V grad S_a . sigma . grad S_b on each component.
+template <int Dim, class KView>
+KOKKOS_INLINE_FUNCTION void addGeometricStiffness(const KView& K, int p, int nn, const double (*grad)[Dim],
+                                                  const double* s, double V) {
+  using SL = StressLayout<Dim>;
+  for (int a = 0; a < nn; ++a)
+    for (int b = 0; b < nn; ++b) {
+      double k = 0;
+      for (int i = 0; i < Dim; ++i)
+        for (int j = 0; j < Dim; ++j) k += grad[a][i] * s[SL::index(i, j)] * grad[b][j];
+      for (int c = 0; c < Dim; ++c) K(p, Dim * a + c, Dim * b + c) += V * k;
+    }
+}
 }  // namespace detail
 
 // The seed's GIMP stiffness (2D only).
@@ -220,45 +269,11 @@ BlockMatrices stencilStiffness(const StructuredGrid& g, const ParticleSet& ps, c
         const bool withHistory = law.hasHistory(mat);
         if (withHistory)
           for (int i = 0; i < ParticleSet::kHistoryCount; ++i) h[i] = hist(p, i);
-        if (finite && atTrialState) {
-          double dF[Dim][Dim], inv[Dim][Dim], F[Dim][Dim], Fn[Dim][Dim];
-          for (int i = 0; i < Dim; ++i)
-            for (int j = 0; j < Dim; ++j) {
-              G[i][j] = Gp(p, i, j);
-              dF[i][j] = (i == j ? 1.0 : 0.0) + G[i][j];
-              Fn[i][j] = Fp(p, i, j);
-            }
-          multiply<Dim>(dF, Fn, F);
-          const double Jd = determinant<Dim>(dF);
-          inverse<Dim>(dF, Jd, inv);
-          double hTrial[ParticleSet::kHistoryCount];  // the stress update's copy (the trial state is discarded)
-          if (withHistory)
-            for (int i = 0; i < ParticleSet::kHistoryCount; ++i) hTrial[i] = h[i];
-          law.template stress<Dim>(mat, s, G, F, withHistory ? hTrial : nullptr, s);
-          Vp *= Jd;
-          for (int n = 0; n < nn; ++n) {  // grad S on the deformed domain: dF^-T grad S
-            double gn[Dim];
-            for (int j = 0; j < Dim; ++j) {
-              double v = 0;
-              for (int k = 0; k < Dim; ++k) v += inv[k][j] * grad[n][k];
-              gn[j] = v;
-            }
-            for (int j = 0; j < Dim; ++j) grad[n][j] = gn[j];
-          }
-        }
+        if (finite && atTrialState)
+          detail::moveToTrialState<Dim>(law, mat, p, Gp, Fp, hist, withHistory, G, s, Vp, nn, grad);
         law.template tangent<Dim>(mat, G, Vp / V0(p), withHistory ? h : nullptr, D);
         detail::addBtDB<Dim>(K, p, nn, grad, Vp, D);
-        if (finite) {
-          // The geometric (initial-stress) term of the current-configuration tangent:
-          // V grad S_a . sigma . grad S_b on each component.
-          for (int a = 0; a < nn; ++a)
-            for (int b = 0; b < nn; ++b) {
-              double k = 0;
-              for (int i = 0; i < Dim; ++i)
-                for (int j = 0; j < Dim; ++j) k += grad[a][i] * s[SL::index(i, j)] * grad[b][j];
-              for (int c = 0; c < Dim; ++c) K(p, Dim * a + c, Dim * b + c) += Vp * k;
-            }
-        }
+        if (finite) detail::addGeometricStiffness<Dim>(K, p, nn, grad, s, Vp);
         if (massFactor > 0.0)
           for (int a = 0; a < nn; ++a)
             for (int b = 0; b < nn; ++b)

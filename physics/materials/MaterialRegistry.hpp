@@ -5,8 +5,9 @@
 // come from this one list; the device side is the switch of MaterialLaw (physics/Materials.hpp).
 //
 // Adding a model: its law in physics/materials/<Name>Model.hpp (stress, tangent, energy, and
-// initialHistory when it has history), one MaterialModel value and one case in each switch of
-// MaterialLaw, and one entry of materialModels() in MaterialRegistry.cpp.
+// initialHistory when it has history), one MaterialModel value, one case in each switch of
+// MaterialLaw and in its flags (finiteStrain, hasHistory: test_material checks them against this
+// list), and one entry of materialModels() in MaterialRegistry.cpp.
 #pragma once
 
 #include <Teuchos_ParameterList.hpp>

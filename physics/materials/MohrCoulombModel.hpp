@@ -182,6 +182,12 @@ struct MohrCoulombModel {
 
   template <int Dim>
   KOKKOS_INLINE_FUNCTION void returnMap(const double (&G)[Dim][Dim], const double* h, Return& r, double& dAlpha) const;
+  // The trial state of returnMap: r's trial strains, axes and order, scale and surface values;
+  // the sorted trial stresses sTrial, the cohesion c and its modulus H at the step's start.
+  // Returns whether the trial state yields.
+  template <int Dim>
+  KOKKOS_INLINE_FUNCTION bool trialState(const double (&G)[Dim][Dim], const double* h, Return& r, double (&tauTrial)[3],
+                                         double (&sTrial)[3], double& c, double& H) const;
 
   // Cauchy stress after the relative deformation gradient f = I + G, with J = det F (total);
   // `h` (b_e, alpha) is read and updated in place.
@@ -209,12 +215,11 @@ struct MohrCoulombModel {
                                                 double (&D)[StressLayout<Dim>::voigt][StressLayout<Dim>::voigt]) const;
 };
 
-// The trial state, the candidates in order, and the elastic log strains of the returned stresses.
 template <int Dim>
-KOKKOS_INLINE_FUNCTION void MohrCoulombModel::returnMap(const double (&G)[Dim][Dim], const double* h, Return& r,
-                                                        double& dAlpha) const {
+KOKKOS_INLINE_FUNCTION bool MohrCoulombModel::trialState(const double (&G)[Dim][Dim], const double* h, Return& r,
+                                                         double (&tauTrial)[3], double (&sTrial)[3], double& c,
+                                                         double& H) const {
   henckyTrial<Dim>(G, h, r.n, r.epsTrial);
-  double tauTrial[3];
   elastic(r.epsTrial, tauTrial);
   // Sort the principal axes by trial stress, largest first.
   int o[3] = {0, 1, 2};
@@ -225,12 +230,12 @@ KOKKOS_INLINE_FUNCTION void MohrCoulombModel::returnMap(const double (&G)[Dim][D
         o[j] = o[j + 1];
         o[j + 1] = t;
       }
-  double sTrial[3];
   for (int k = 0; k < 3; ++k) {
     r.order[k] = o[k];
     sTrial[k] = tauTrial[o[k]];
   }
-  double c = cohesion + hardening * h[kHenckyInternal], H = hardening;
+  c = cohesion + hardening * h[kHenckyInternal];
+  H = hardening;
   if (c <= residual) {
     c = residual;
     H = 0.0;
@@ -244,6 +249,16 @@ KOKKOS_INLINE_FUNCTION void MohrCoulombModel::returnMap(const double (&G)[Dim][D
                         : -1e300;
     yields = yields || r.phiTrial[k] > 0.0;
   }
+  return yields;
+}
+
+// The trial state, the candidates in order, and the elastic log strains of the returned stresses.
+template <int Dim>
+KOKKOS_INLINE_FUNCTION void MohrCoulombModel::returnMap(const double (&G)[Dim][Dim], const double* h, Return& r,
+                                                        double& dAlpha) const {
+  double tauTrial[3], sTrial[3], c, H;
+  const bool yields = trialState<Dim>(G, h, r, tauTrial, sTrial, c, H);
+  const int* o = r.order;
   r.regime = Elastic;
   r.count = 0;
   r.hEffective = H;

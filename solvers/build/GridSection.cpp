@@ -110,6 +110,7 @@ void Simulation::readGrid() {
 
 void Simulation::readMethod() {
   shape_ = deck_.sublist("Method").get<std::string>("Shape Function");
+  settings_.shapeFunction = shape_;
   const ShapeInfo& shape = shapeInfo(shape_);  // (the schema admits only the registry's names)
   if (shape.fixedParticles) placement_ = shape.quadraticElements ? Placement::GaussQ9 : Placement::GaussQ4;
   fbar_ = deck_.sublist("Method").get<std::string>("Volumetric Locking") == "F-bar";

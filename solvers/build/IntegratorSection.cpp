@@ -210,6 +210,7 @@ ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
   ExplicitOptions eopt;
   const std::string s = ex.get<std::string>("Update Scheme");
   eopt.scheme = s == "USF" ? ExplicitScheme::USF : s == "MUSL" ? ExplicitScheme::MUSL : ExplicitScheme::USL;
+  settings_.updateSchemeUsl = eopt.scheme == ExplicitScheme::USL;
   eopt.flip = ex.get<double>("FLIP Fraction");
   eopt.fbar = fbar_;
   eopt.projectionIterations = ex.get<int>("Consistent Projection Iterations");
@@ -223,6 +224,7 @@ ExplicitOptions Simulation::readExplicitOptions(bool explicitRun) {
     throw DeckError("'Integrator/Explicit/FLIP Fraction' must lie in [0, 1], got " + formatNumber(eopt.flip));
   readTransfer(eopt, ex, explicitRun);
   const double factor = positive(ex, "Integrator/Explicit", "Stability Factor");
+  settings_.stabilityFactor = factor;
   // kTransferStabilityFraction x the critical step of lumped bilinear cells (ExplicitStepper.hpp);
   // c_p: the fastest material's. A factor above 1 leaves the measured stable range: allowed for
   // stability studies, with a warning, and the run's divergence guard stops a run that blows up.

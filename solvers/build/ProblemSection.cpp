@@ -121,6 +121,7 @@ void addOutputSchema(ParameterList& valid) {
 
 void Simulation::readProblem(const std::string& outputOverride) {
   const ParameterList& problem = deck_.sublist("Problem");
+  settings_.problemName = problem.get<std::string>("Name");
   outputDir_ = outputOverride.empty() ? problem.get<std::string>("Output Directory") : outputOverride;
   outputKey_ = outputOverride.empty() ? "'Problem/Output Directory'" : "--output";
   if (outputDir_.empty()) throw DeckError(outputKey_ + " must not be empty");
@@ -131,10 +132,7 @@ void Simulation::readProblem(const std::string& outputOverride) {
 // The output intervals: History Interval counts steps between rows (the last step is always
 // written), so it is at least 1; 0 has a meaning for VTK (first and last step only) and for
 // checkpoints (none); a negative value has none.
-void Simulation::checkOutputIntervals() const {
-  // The output intervals: History Interval counts steps between rows (the last step is always
-  // written), so it is at least 1; 0 has a meaning for VTK (first and last step only) and for
-  // checkpoints (none); a negative value has none.
+void Simulation::readOutputSettings() {
   const ParameterList& out = deck_.sublist("Output");
   const int historyInterval = out.get<int>("History Interval");
   if (historyInterval < 1)
@@ -150,6 +148,11 @@ void Simulation::checkOutputIntervals() const {
   if (out.get<int>("Checkpoint Interval") < 0)
     throw DeckError("'Output/Checkpoint Interval' must be 0 (no checkpoints) or positive, got " +
                     std::to_string(out.get<int>("Checkpoint Interval")));
+  settings_.historyInterval = historyInterval;
+  settings_.historyDigits = digits;
+  settings_.vtkInterval = out.get<int>("VTK Interval");
+  settings_.checkpointInterval = out.get<int>("Checkpoint Interval");
+  settings_.progress = out.get<bool>("Progress");
 }
 
 void Simulation::checkProblemSize(bool implicit) const {

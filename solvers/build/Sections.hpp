@@ -29,7 +29,7 @@ namespace build {
 Teuchos::RCP<const Teuchos::ParameterList> bodiesTemplate();       // BodiesSection.cpp
 Teuchos::RCP<const Teuchos::ParameterList> constraintsTemplate();  // ConditionsSection.cpp
 Teuchos::RCP<const Teuchos::ParameterList> loadsTemplate();
-Teuchos::RCP<const Teuchos::ParameterList> wallsTemplate();
+Teuchos::RCP<const Teuchos::ParameterList> wallsTemplate();         // WallsSection.cpp
 Teuchos::RCP<const Teuchos::ParameterList> monitorsTemplate();      // MonitorsSection.cpp
 Teuchos::RCP<const Teuchos::ParameterList> contactPairsTemplate();  // ContactSection.cpp
 // The time-function keys of a load or a prescribed motion (physics/TimeFunction.hpp).

@@ -195,8 +195,6 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   int stateStride_ = 0, dispStride_ = 0, forceStride_ = 0, geometryCol_ = -1;
   // Contact: the trial end velocities of the fields at the owned nodes, before and after the
   // contact law, and the force of each pair at the last residual's point.
-  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> contactVelocity_, contactVelocityBefore_;
-  std::vector<double> contactPairForce_;
 
   // Owned and ghosted node multivectors (solvers/implicit/ImplicitGridColumns.hpp): grid state
   // (mass, v, a, F_ext, free flags), displacement, force.

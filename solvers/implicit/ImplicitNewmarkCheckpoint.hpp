@@ -1,0 +1,64 @@
+// ImplicitNewmark<Shape, Dim>'s part of a checkpoint: counters, step control, the kept P (per
+// rank) and the FE reference's grid kinematics. Included by ImplicitNewmarkImpl.hpp.
+#pragma once
+
+#include "solvers/implicit/ImplicitNewmark.hpp"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace impm {
+
+// ---- Checkpoint -------------------------------------------------------------------------------
+
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
+  std::vector<double> scalars = {double(firstStep_), control_.carriedSubStep(), double(control_.halvings())};
+  for (const auto& part : {refresh_.state(), statistics_.scalars(), control_.subStepStatistics()})
+    scalars.insert(scalars.end(), part.begin(), part.end());
+  state["implicit scalars"] = scalars;
+  statistics_.save(state);
+  // A Jacobian-free run reuses P (and its preconditioner) for later steps: kept, per rank.
+  state["implicit ranks"] = {double(dist_.comm()->getSize())};
+  if (jacobianFree() && !assembler_.matrix().is_null()) assembler_.save(state["node implicit P"]);
+  if (opt_.fixedParticles) {
+    // The grid's own v and a (owned nodes) with their global ids: per rank.
+    auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto map = dist_.ownedNodeMap();
+    auto& gids = state["node implicit grid kinematics gids"];
+    auto& values = state["node implicit grid kinematics"];
+    for (size_t n = 0; n < k.extent(0); ++n) {
+      gids.push_back(double(map->getGlobalElement((LO)n)));
+      for (int c = 0; c < 2 * Dim; ++c) values.push_back(k(n, c));
+    }
+  }
+}
+
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
+  const std::vector<double>& s = state.at("implicit scalars");
+  if (s.size() != 17)
+    throw std::runtime_error("checkpoint: 'implicit scalars' has " + std::to_string(s.size()) + " entries, not 17");
+  firstStep_ = s[0] != 0;
+  refresh_.restore(s[3], s[4], s[5], s[6]);
+  statistics_.restoreScalars(std::vector<double>(s.begin() + 7, s.begin() + 13));
+  control_.restore(s[1], s[2], std::vector<double>(s.begin() + 13, s.end()));
+  statistics_.restore(state);
+  const auto ranks = state.find("implicit ranks"), P = state.find("node implicit P");
+  if (ranks != state.end() && P != state.end() && int(ranks->second.at(0)) == dist_.comm()->getSize())
+    restoredP_ = P->second;
+  if (opt_.fixedParticles) {
+    const auto& gids = state.at("node implicit grid kinematics gids");
+    const auto& values = state.at("node implicit grid kinematics");
+    auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::OverwriteAll);
+    const auto map = dist_.ownedNodeMap();
+    for (size_t i = 0; i < gids.size(); ++i) {
+      const LO n = map->getLocalElement((GO)gids[i]);
+      if (n == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+      for (int c = 0; c < 2 * Dim; ++c) k(n, c) = values[i * 2 * Dim + c];
+    }
+  }
+}
+
+}  // namespace impm
