@@ -193,9 +193,6 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   // mass-weighted position, at geometryCol_), the displacement and the force multivectors.
   int fields_ = 1;
   int stateStride_ = 0, dispStride_ = 0, forceStride_ = 0, geometryCol_ = -1;
-  // Contact: the trial end velocities of the fields at the owned nodes, before and after the
-  // contact law, and the force of each pair at the last residual's point.
-
   // Owned and ghosted node multivectors (solvers/implicit/ImplicitGridColumns.hpp): grid state
   // (mass, v, a, F_ext, free flags), displacement, force.
   Teuchos::RCP<MultiVector> stateOwned_, stateGhosted_, dispOwned_, dispGhosted_, forceOwned_, forceGhosted_;
