@@ -668,3 +668,30 @@ TEUCHOS_UNIT_TEST(NewtonSolver, LinearSolveBreakdownIsAFailedSolveNotAnException
   TEST_ASSERT(again.converged);
   TEST_EQUALITY(solver.setUpBuilds(), 2);
 }
+
+// GMRES's inner products on a rank that owns no unknowns (a rank whose part of the grid holds no
+// mass): Belos computes them through Thyra as C = A^T B with Tpetra::MultiVector::multiply, each
+// rank's product of its rows summed over the ranks. Trilinos 13.2's KokkosBlas::gemm left C
+// unset on a rank with no rows instead of zeroing it (cmake/trilinos-patches), so whatever the
+// memory held entered every rank's sum: NaN or wrong Hessenberg entries now and then. C starts
+// as NaN here, so that such a library fails every time, at np 2 (rank 1 owns nothing).
+TEUCHOS_UNIT_TEST(NewtonSolver, InnerProductsOnARankWithoutUnknowns) {
+  const auto comm = Tpetra::getDefaultComm();
+  const GO n = 50;
+  const size_t vectors = 3;
+  auto rows = rcp(new Map(n, comm->getRank() == 0 ? size_t(n) : 0, 0, comm));
+  impm::MultiVector A(rows, vectors), B(rows, vectors);
+  A.randomize();
+  B.randomize();
+  auto small = rcp(new Map(vectors, 0, comm, Tpetra::LocallyReplicated));
+  impm::MultiVector C(small, vectors);
+  C.putScalar(std::nan(""));
+  C.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, A, B, 0.0);
+  auto c = C.getLocalViewHost(Tpetra::Access::ReadOnly);
+  for (size_t i = 0; i < vectors; ++i)
+    for (size_t j = 0; j < vectors; ++j) {
+      const Scalar dot = A.getVector(i)->dot(*B.getVector(j));
+      out << "C(" << i << "," << j << ") = " << c(i, j) << ", dot " << dot << "\n";
+      TEST_FLOATING_EQUALITY(c(i, j), dot, 1e-12);
+    }
+}

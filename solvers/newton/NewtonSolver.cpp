@@ -53,12 +53,11 @@ NewtonSolver::NewtonSolver(const RCP<ParameterList>& params)
     // point iteration x += P^-1 (b - P x) around the exact inverse: the direct solve, then at most
     // two steps of iterative refinement (more only stagnate at round-off once the relative residual
     // tolerance, 1e-10, is below what a badly conditioned P allows; Newton takes the step anyway).
-    // Not GMRES: in Trilinos 13.2 a Krylov method's inner products go through Thyra ->
-    // Tpetra::MultiVector::multiply -> KokkosBlas::gemm, which returns early on a rank owning no
-    // unknowns without zeroing its part of the product (kokkos-kernels #1088, Trilinos #9583); that
-    // part holds the Hessenberg entries Belos allocated uninitialised, and the sum over ranks adds
-    // them into every rank's coefficients: NaN or wrong GMRES residuals, depending on what the heap
-    // held, whenever a rank has no free dofs. The fixed point iteration takes norms only.
+    // Not GMRES: a Krylov method's inner products go through Thyra -> Tpetra::MultiVector::multiply
+    // -> KokkosBlas::gemm, which in Trilinos 13.2 returns early on a rank owning no unknowns without
+    // zeroing its part of the product (kokkos-kernels #1088); the sum over ranks then adds what the
+    // memory held. impm's own Trilinos build is patched (cmake/trilinos-patches), a Trilinos of the
+    // user's own may not be; the fixed point iteration takes norms only, right with either.
     auto belos = rcp(new ParameterList("Stratimikos"));
     belos->set("Linear Solver Type", "Belos");
     belos->set("Preconditioner Type", "None");
