@@ -171,31 +171,21 @@ class GridConditions {
 
   // Implicit hook, at every residual with several fields: the contact between the bodies as a
   // penalty. endVelocity(n, f, c) is field f's trial end velocity at owned node n (component c);
-  // the contact law turns the fields' trial velocities v_new into v*, and field f's force columns
-  // (forceCol.., forceStride apart) get coefficient m (v* - v_new). The pair forces of this call,
-  // times pairForceFactor, are what recordImplicitContactForces records.
+  // the contact law, with the active set's states frozen (ContactActiveSet), turns the fields'
+  // trial velocities v_new into v*, and field f's force columns (forceCol.., forceStride apart) get
+  // coefficient m (v* - v_new). The pair forces of this call, times pairForceFactor, are what
+  // recordImplicitContactForces records.
   template <class ExecSpace, class StateView, class EndVelocity, class ForceView>
   void addImplicitContactForces(const StateView& s, int massCol, int gradCol, int stateStride,
                                 const EndVelocity& endVelocity, const ForceView& f, int forceCol, int forceStride,
                                 double coefficient, double pairForceFactor) {
     const int fields = fieldCount(), dim = dim_;
-    if (trialVelocity_.extent(0) != s.extent(0) || trialVelocity_.extent(1) != size_t(fields * dim)) {
-      trialVelocity_ = decltype(trialVelocity_)("contact_trial_velocity", s.extent(0), fields * dim);
-      lawVelocity_ = decltype(trialVelocity_)("contact_law_velocity", s.extent(0), fields * dim);
-    }
+    trialContactVelocities<ExecSpace>(s, endVelocity);
     auto vel = lawVelocity_;
     auto before = trialVelocity_;
-    Kokkos::parallel_for(
-        "contact_trial_velocity", Kokkos::RangePolicy<ExecSpace>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
-          for (int b = 0; b < fields; ++b)
-            for (int c = 0; c < dim; ++c) {
-              const double vNew = endVelocity(n, b, c);
-              vel(n, b * dim + c) = vNew;
-              before(n, b * dim + c) = vNew;
-            }
-        });
-    contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, vel, 0, -1, dim, dim, dt_, true,
-                                 &implicitPairForce_);
+    contactSet_.mode = ContactActiveSet::Mode::Frozen;
+    contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, vel, 0, -1, dim, dim, dt_, true, &implicitPairForce_,
+                                 &contactSet_);
     Kokkos::parallel_for(
         "contact_penalty_force", Kokkos::RangePolicy<ExecSpace>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
           for (int b = 0; b < fields; ++b) {
@@ -206,6 +196,30 @@ class GridConditions {
         });
     for (double& value : implicitPairForce_) value *= pairForceFactor;
   }
+  // After a converged solve: each contact node's state decided anew from the trial end
+  // velocities (ContactActiveSet, Classify); returns this rank's count of changed nodes.
+  template <class ExecSpace, class StateView, class EndVelocity>
+  int classifyImplicitContact(const StateView& s, int massCol, int gradCol, int stateStride,
+                              const EndVelocity& endVelocity) {
+    trialContactVelocities<ExecSpace>(s, endVelocity);
+    contactSet_.mode = ContactActiveSet::Mode::Classify;
+    return contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, lawVelocity_, 0, -1, dim_, dim_, dt_, true,
+                                        nullptr, &contactSet_);
+  }
+  // The active set at the start of a step attempt, kept so that a failed attempt (StepControl
+  // retries it smaller) starts again from it; and the set itself (checkpoints).
+  void keepImplicitContactStates(size_t ownedNodes) {
+    contactSet_.fit(ownedNodes, fieldCount());
+    keptContactSet_.fit(ownedNodes, fieldCount());
+    Kokkos::deep_copy(keptContactSet_.state, contactSet_.state);
+    Kokkos::deep_copy(keptContactSet_.direction, contactSet_.direction);
+  }
+  void restoreImplicitContactStates() {
+    Kokkos::deep_copy(contactSet_.state, keptContactSet_.state);
+    Kokkos::deep_copy(contactSet_.direction, keptContactSet_.direction);
+  }
+  ContactActiveSet& implicitContactSet() { return contactSet_; }
+  const ContactActiveSet& implicitContactSet() const { return contactSet_; }
   // The force of each pair of bodies on its first (3 per pair, this rank's share) at the last
   // addImplicitContactForces: the converged step's, when called after the solve.
   void recordImplicitContactForces() {
@@ -310,9 +324,31 @@ class GridConditions {
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> wallParams_, wallForce_;
   ImplicitWallContact implicitWalls_;
   MultiFieldContact contact_;
-  // The implicit contact's trial end velocities, the law's answer to them, and its pair forces.
+  // The implicit contact's trial end velocities, the law's answer to them, its pair forces, and
+  // its active set (with the copy a step attempt started from).
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> trialVelocity_, lawVelocity_;
   std::vector<double> implicitPairForce_;
+  ContactActiveSet contactSet_, keptContactSet_;
+  // Fills trialVelocity_ and lawVelocity_ (owned node x field x component) with endVelocity.
+  template <class ExecSpace, class StateView, class EndVelocity>
+  void trialContactVelocities(const StateView& s, const EndVelocity& endVelocity) {
+    const int fields = fieldCount(), dim = dim_;
+    if (trialVelocity_.extent(0) != s.extent(0) || trialVelocity_.extent(1) != size_t(fields * dim)) {
+      trialVelocity_ = decltype(trialVelocity_)("contact_trial_velocity", s.extent(0), fields * dim);
+      lawVelocity_ = decltype(trialVelocity_)("contact_law_velocity", s.extent(0), fields * dim);
+    }
+    auto vel = lawVelocity_;
+    auto before = trialVelocity_;
+    Kokkos::parallel_for(
+        "contact_trial_velocity", Kokkos::RangePolicy<ExecSpace>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
+          for (int b = 0; b < fields; ++b)
+            for (int c = 0; c < dim; ++c) {
+              const double vNew = endVelocity(n, b, c);
+              vel(n, b * dim + c) = vNew;
+              before(n, b * dim + c) = vNew;
+            }
+        });
+  }
   int sumsStride_ = 0, kinStride_ = 0;
   double dt_ = 0.0;
   std::array<bool, int(PrescribedField::Count)> zero_{};

@@ -43,6 +43,8 @@
 // named first (summed over nodes and ranks) is reported per pair. The explicit step applies the exchange
 // after the grid update (to the new velocity and the acceleration, so FLIP particles receive the
 // impulse), and to the velocity the stress is computed from (USF's start, MUSL's re-mapped one).
+// The implicit step applies it as a penalty force in the Newton residual, through an active set
+// (ContactActiveSet) that holds each contact node's stick or slip fixed during a solve.
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -90,6 +92,33 @@ struct ContactSpec {
   }
 };
 
+// The implicit step's contact as an active set (Frozen, then Classify; see
+// ImplicitNewmark::reviseContactStates). Each owned node's field is Free (no contact force), Stick
+// (the law removes its whole relative velocity dv) or Slip (the approach, and friction mu dn along
+// the slip direction of the last classification); the Newton solve sees that fixed set, so its
+// residual is smooth: Coulomb's kink, where a node starts or stops slipping, is decided between
+// solves instead. After a solve, Classify decides each contact node's state from its trial
+// velocities: Free where the bodies do not approach (dn <= 0); a slipping node stays Slip while the
+// slip friction leaves still runs along its direction, else sticks; any other node sticks where
+// friction can hold it (|dv_t| <= mu dn), else slips along dv_t. Frictional pairs only: the
+// frictionless law kinks only where the bodies start or stop approaching, which Newton's line
+// search handles, and No Slip is linear in dv. Classify counts the nodes whose state changed or
+// whose slip direction turned by more than about 8 degrees.
+struct ContactActiveSet {
+  enum State : int { Free = 0, Stick = 1, Slip = 2 };
+  enum class Mode { Law, Frozen, Classify };
+  Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> state;         // owned node x field
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> direction;  // owned node x (3 per field)
+  Mode mode = Mode::Law;
+  // Whether the set holds the nodes of a grid of `nodes` owned nodes and `fields` fields; else
+  // (the first step, a new decomposition) it starts afresh with every node Free.
+  void fit(size_t nodes, int fields) {
+    if (state.extent(0) == nodes && state.extent(1) == size_t(fields)) return;
+    state = decltype(state)("contact_active_set", nodes, fields);
+    direction = decltype(direction)("contact_slip_direction", nodes, 3 * fields);
+  }
+};
+
 class MultiFieldContact {
  public:
   // The largest number of bodies (fields) a contact deck may have.
@@ -114,10 +143,13 @@ class MultiFieldContact {
   // velocity (and acceleration, when accCol >= 0) in `kin` at velCol + f * kinStride (accCol..).
   // With pairForce (3 per pair), the force of each pair on its first body is written there.
   // Rigid fields take their velocity at the step's end (stepEnd) or start, and the step's change
-  // of it over dt as acceleration.
+  // of it over dt as acceleration. With an active set in Frozen mode, the set's states replace the
+  // law (see ContactActiveSet); in Classify mode the states are decided anew (kin is left alone)
+  // and the return value is the number of nodes whose state changed; otherwise 0.
   template <class ExecSpace, class SumsView, class KinView>
-  void exchange(const SumsView& sums, int massCol, int gradCol, int sumsStride, const KinView& kin, int velCol,
-                int accCol, int kinStride, int dim, double dt, bool stepEnd, std::vector<double>* pairForce) const;
+  int exchange(const SumsView& sums, int massCol, int gradCol, int sumsStride, const KinView& kin, int velCol,
+               int accCol, int kinStride, int dim, double dt, bool stepEnd, std::vector<double>* pairForce,
+               ContactActiveSet* activeSet = nullptr) const;
 
  private:
   template <class SumsView, class KinView>
@@ -153,7 +185,11 @@ struct MultiFieldContact::Exchange {
   int massCol, gradCol, sumsStride, velCol, accCol, kinStride, fields, dim;
   double dt, screen, distance, h[3];
   bool larger, hasRigid, stepEnd;
-  size_type value_count;  // 3 per pair
+  // The implicit step's active set (mode Law: none) and its mode.
+  Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> state;
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> direction;
+  ContactActiveSet::Mode mode;
+  size_type value_count;  // 3 per pair, then the count of Classify's changes
 
   KOKKOS_INLINE_FUNCTION void init(double* f) const {
     for (int k = 0; k < value_count; ++k) f[k] = 0.0;
@@ -163,6 +199,23 @@ struct MultiFieldContact::Exchange {
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(int n, double* force) const {
+    if (mode != ContactActiveSet::Mode::Classify) {
+      exchangeAt(n, force, nullptr);
+      return;
+    }
+    // Classify: every field Free unless exchangeAt finds it in contact; the changes counted.
+    int old[kMaxFields];
+    for (int f = 0; f < fields; ++f) {
+      old[f] = state(n, f);
+      state(n, f) = ContactActiveSet::Free;
+    }
+    exchangeAt(n, force, old);
+    for (int f = 0; f < fields; ++f) force[value_count - 1] += state(n, f) != old[f] ? 1.0 : 0.0;
+  }
+
+  // The exchange at node n (see the file comment); in Classify mode (old: each field's state before)
+  // the contact fields' states instead.
+  KOKKOS_INLINE_FUNCTION void exchangeAt(int n, double* force, const int* old) const {
     double mass[kMaxFields], total = 0.0;
     int present = 0;
     for (int f = 0; f < fields; ++f) {
@@ -197,8 +250,14 @@ struct MultiFieldContact::Exchange {
         dn += dv[d] * normal[d];
       }
       double change[3] = {0.0, 0.0, 0.0};
+      if (mode == ContactActiveSet::Mode::Classify) {
+        if (mu > 0.0) force[value_count - 1] += classify(n, a, mu, dv, dn, normal, old[a]);
+        continue;
+      }
       if (mu < 0.0) {  // no slip
         for (int d = 0; d < dim; ++d) change[d] = -dv[d];
+      } else if (mode == ContactActiveSet::Mode::Frozen && mu > 0.0) {
+        if (!frozenChange(n, a, mu, dv, dn, normal, change)) continue;
       } else {
         if (!(dn > 0.0)) continue;  // separating (or sliding along): no contact
         double slip = 0.0;
@@ -218,6 +277,50 @@ struct MultiFieldContact::Exchange {
         force[3 * pair + d] += sign * mass[a] * change[d] / dt;
       }
     }
+  }
+
+  // Frozen: the correction of field a at node n by its state (false: Free, none).
+  KOKKOS_INLINE_FUNCTION bool frozenChange(int n, int a, double mu, const double* dv, double dn, const double* normal,
+                                           double* change) const {
+    const int current = state(n, a);
+    if (current == ContactActiveSet::Free) return false;
+    for (int d = 0; d < dim; ++d)
+      change[d] = current == ContactActiveSet::Stick ? -dv[d] : -dn * normal[d] - mu * dn * direction(n, 3 * a + d);
+    return true;
+  }
+
+  // Classify: field a's state at node n from its trial relative velocity dv (dn along the normal)
+  // and its state before, `old`; 1 when it slips on with its direction turned.
+  KOKKOS_INLINE_FUNCTION int classify(int n, int a, double mu, const double* dv, double dn, const double* normal,
+                                      int old) const {
+    int next = ContactActiveSet::Free;
+    double left[3] = {0.0, 0.0, 0.0}, length = 0.0;
+    if (dn > 0.0) {
+      for (int d = 0; d < dim; ++d) left[d] = dv[d] - dn * normal[d];  // the tangential slip dv_t
+      if (old == ContactActiveSet::Slip) {
+        double along = 0.0;  // the slip friction leaves, along the frozen direction
+        for (int d = 0; d < dim; ++d) {
+          left[d] -= mu * dn * direction(n, 3 * a + d);
+          along += left[d] * direction(n, 3 * a + d);
+        }
+        next = along > 0.0 ? ContactActiveSet::Slip : ContactActiveSet::Stick;
+      } else {
+        double slip2 = 0.0;
+        for (int d = 0; d < dim; ++d) slip2 += left[d] * left[d];
+        next = slip2 <= mu * mu * dn * dn ? ContactActiveSet::Stick : ContactActiveSet::Slip;
+      }
+      for (int d = 0; d < dim; ++d) length += left[d] * left[d];
+      length = std::sqrt(length);
+    }
+    int changed = 0;
+    if (next == ContactActiveSet::Slip && length > 0.0) {
+      double cosine = 0.0;
+      for (int d = 0; d < dim; ++d) cosine += left[d] / length * direction(n, 3 * a + d);
+      if (old == ContactActiveSet::Slip && cosine < 0.99) changed = 1;
+      for (int d = 0; d < dim; ++d) direction(n, 3 * a + d) = left[d] / length;
+    }
+    state(n, a) = next;
+    return changed;
   }
 
   // Writes each rigid field's prescribed motion at node n (where it has mass) and returns the
@@ -306,24 +409,49 @@ struct MultiFieldContact::Exchange {
 };
 
 template <class ExecSpace, class SumsView, class KinView>
-void MultiFieldContact::exchange(const SumsView& sums, int massCol, int gradCol, int sumsStride, const KinView& kin,
-                                 int velCol, int accCol, int kinStride, int dim, double dt, bool stepEnd,
-                                 std::vector<double>* pairForce) const {
-  if (!active()) return;
-  Exchange<SumsView, KinView> op{
-      sums,    kin,       friction_,  rigid_,    rigidMotion_, rigidNormal_,
-      massCol, gradCol,   sumsStride, velCol,    accCol,       kinStride,
-      fields_, dim,       dt,         screen_,   distance_,    {spacing_[0], spacing_[1], spacing_[2]},
-      larger_, hasRigid_, stepEnd,    3 * pairs_};
-  std::vector<double> sumsOut(3 * pairs_, 0.0);
+int MultiFieldContact::exchange(const SumsView& sums, int massCol, int gradCol, int sumsStride, const KinView& kin,
+                                int velCol, int accCol, int kinStride, int dim, double dt, bool stepEnd,
+                                std::vector<double>* pairForce, ContactActiveSet* activeSet) const {
+  if (!active()) return 0;
+  const ContactActiveSet::Mode mode = activeSet ? activeSet->mode : ContactActiveSet::Mode::Law;
+  if (activeSet) activeSet->fit(kin.extent(0), fields_);
+  Exchange<SumsView, KinView> op{sums,
+                                 kin,
+                                 friction_,
+                                 rigid_,
+                                 rigidMotion_,
+                                 rigidNormal_,
+                                 massCol,
+                                 gradCol,
+                                 sumsStride,
+                                 velCol,
+                                 accCol,
+                                 kinStride,
+                                 fields_,
+                                 dim,
+                                 dt,
+                                 screen_,
+                                 distance_,
+                                 {spacing_[0], spacing_[1], spacing_[2]},
+                                 larger_,
+                                 hasRigid_,
+                                 stepEnd,
+                                 activeSet ? activeSet->state : decltype(activeSet->state)(),
+                                 activeSet ? activeSet->direction : decltype(activeSet->direction)(),
+                                 mode,
+                                 3 * pairs_ + 1};
+  std::vector<double> sumsOut(3 * pairs_ + 1, 0.0);
   Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> result(sumsOut.data(),
                                                                                            sumsOut.size());
   Kokkos::parallel_reduce("multi_field_contact", Kokkos::RangePolicy<ExecSpace>(0, kin.extent(0)), op, result);
+  const int changes = int(sumsOut.back());
   if (pairForce) {
+    sumsOut.pop_back();
     for (int k = 0; k < pairs_; ++k)
       for (int d = 0; d < 3; ++d) sumsOut[3 * k + d] *= pairSign_[k];
     *pairForce = sumsOut;
   }
+  return changes;
 }
 
 }  // namespace impm

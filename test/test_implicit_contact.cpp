@@ -4,7 +4,9 @@
 // conservation laws:
 // - a block on a 30 degree incline on an elastic slab (apps/block_incline_contact_implicit_gimp.yaml)
 //   at 40 times the explicit time step: its travel against g (sin 30 - mu cos 30) t^2 / 2 for mu = 0
-//   and 0.3, and the slab's normal and friction forces against M g cos 30 and mu times it;
+//   and 0.3, and the slab's normal and friction forces against M g cos 30 and mu times it; with
+//   mu = 0.7 > tan 30 it stays, held by the friction force M g sin 30, and with mu = 0.5 just below
+//   it slides as the closed form says;
 // - two elastic disks that collide and separate (apps/colliding_disks_contact_implicit_gimp.yaml) at
 //   10 times the explicit step: momentum conserved, a contact force that only pushes and whose
 //   impulse is each disk's change of momentum, velocities reversed, a bounded loss of energy;
@@ -78,6 +80,54 @@ TEUCHOS_UNIT_TEST(ImplicitContact, BlockSlidesDownInclineOnSlab) {
     TEST_COMPARE(std::abs(-sy / weight - 1), <, 0.1);
     TEST_COMPARE(std::abs(sx / (mu * weight) - 1), <, 0.1);
   }
+}
+
+// Sticking friction: mu = 0.7 > tan 30 holds the block (ContactActiveSet: its contact nodes stick
+// in the solve, so Newton sees no kink). Gravity ramps up over 0.05 s (applied at once it rings the
+// soft block on the slab, whose rebounds slip it a little each time). Asserted: the block moves less
+// than 0.5% of the frictionless travel g sin 30 t^2 / 2 in 0.15 s (measured 0.16%), and over
+// t >= 0.1 s the mean force of the block on the slab is its weight: M g sin 30 = 2 N along the
+// incline (held by friction) and M g cos 30 = 3.46 N into the slab, within 2% (measured 0.1% and
+// 0.3%).
+TEUCHOS_UNIT_TEST(ImplicitContact, FrictionHoldsBlockOnIncline) {
+  const double t = 0.15, M = 0.4, g = 10.0, theta = M_PI / 6;
+  ParameterList d = quietAppDeck("block_incline_contact_implicit_gimp.yaml");
+  d.sublist("Contact").set("Friction", 0.7);
+  d.sublist("Integrator").set("Number of Steps", 150);
+  d.sublist("Loads").sublist("gravity").set("Time Function", std::string("Ramp")).set("Ramp Time", 0.05);
+  const impm::RunResult r = runDeck(d, "hold");
+  TEST_EQUALITY_CONST(r.status, "completed");
+  if (r.status != "completed") return;
+  const double travel = r.computed.at("block travel").back(), frictionless = 0.5 * g * std::sin(theta) * t * t;
+  const double sx = impm_test::meanFrom(r, "slab_block_contact_x", 0.1);
+  const double sy = impm_test::meanFrom(r, "slab_block_contact_y", 0.1);
+  const double along = M * g * std::sin(theta), into = M * g * std::cos(theta);
+  out << "mu = 0.7: travel " << travel << " m, " << travel / frictionless << " of the frictionless " << frictionless
+      << " m; mean force of the block on the slab (" << sx << ", " << sy << ") N, weight (" << along << ", " << -into
+      << ") N\n";
+  TEST_COMPARE(std::abs(travel), <, 0.005 * frictionless);
+  TEST_COMPARE(std::abs(sx / along - 1), <, 0.02);
+  TEST_COMPARE(std::abs(-sy / into - 1), <, 0.02);
+}
+
+// Just below the threshold, mu = 0.5 < tan 30, the same ramped gravity slides the block with
+// a = g (sin 30 - mu cos 30) = 0.67 m/s^2 once ramped: s(t) = a (T^2 / 6 + T (t - T) / 2 +
+// (t - T)^2 / 2) for the ramp time T <= t. Asserted within 3% at t = 0.15 s (measured 1.3%), the
+// tolerance of the sliding test above; a stick-slip cycle that never settled would creep instead.
+TEUCHOS_UNIT_TEST(ImplicitContact, FrictionNearTheThresholdSlides) {
+  const double t = 0.15, T = 0.05, g = 10.0, theta = M_PI / 6, mu = 0.5;
+  ParameterList d = quietAppDeck("block_incline_contact_implicit_gimp.yaml");
+  d.sublist("Contact").set("Friction", mu);
+  d.sublist("Integrator").set("Number of Steps", 150);
+  d.sublist("Loads").sublist("gravity").set("Time Function", std::string("Ramp")).set("Ramp Time", T);
+  const impm::RunResult r = runDeck(d, "threshold");
+  TEST_EQUALITY_CONST(r.status, "completed");
+  if (r.status != "completed") return;
+  const double a = g * (std::sin(theta) - mu * std::cos(theta));
+  const double exact = a * (T * T / 6 + T * (t - T) / 2 + (t - T) * (t - T) / 2);
+  const double travel = r.computed.at("block travel").back(), error = std::abs(travel / exact - 1);
+  out << "mu = 0.5: travel " << travel << " m, exact " << exact << " m, relative error " << error << "\n";
+  TEST_COMPARE(error, <, 0.03);
 }
 
 // The disks (0.2 m radius, 1000 kg/m^3, +-(0.1, 0.1) m/s; 20 x 20 cells; dt = 10 ms) meet along

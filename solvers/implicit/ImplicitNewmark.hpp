@@ -151,6 +151,11 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   StepControl::Outcome solveStep(double t, double dt);  // one Newton solve of [t, t + dt]
   void finishStep(const Vector& u);                     // grid and particle update with the converged u
   bool reviseWallContacts(const Vector& u);             // walls: release / hold components; true if any changed
+  bool reviseContactStates(const Vector& u);            // contact: the active set anew; true if any changed
+  void saveContactStates(NamedArrays& state) const;     // checkpoint: the contact active set, by node id
+  void restoreContactStates(const NamedArrays& state);
+  // With contact, solves of one step before the last active set stands.
+  static constexpr int kMaxContactSolves = 8;
   auto heldWallReaction() const;
   void gridUpdate();       // a_new and the velocity increment on the grid
   void updateParticles();  // stress, then x, v, a of the particles
@@ -213,6 +218,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   StepControl control_;
   ImplicitStatistics statistics_;
+  long contactResolves_ = 0;  // the solves repeated for a changed contact active set
 };
 
 }  // namespace impm

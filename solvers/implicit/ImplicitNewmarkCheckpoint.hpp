@@ -22,6 +22,7 @@ void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
   // A Jacobian-free run reuses P (and its preconditioner) for later steps: kept, per rank.
   state["implicit ranks"] = {double(dist_.comm()->getSize())};
   if (jacobianFree() && !assembler_.matrix().is_null()) assembler_.save(state["node implicit P"]);
+  if (fields_ > 1) saveContactStates(state);
   if (opt_.fixedParticles) {
     // The grid's own v and a (owned nodes) with their global ids: per rank.
     auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::ReadOnly);
@@ -48,6 +49,7 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
   const auto ranks = state.find("implicit ranks"), P = state.find("node implicit P");
   if (ranks != state.end() && P != state.end() && int(ranks->second.at(0)) == dist_.comm()->getSize())
     restoredP_ = P->second;
+  if (fields_ > 1) restoreContactStates(state);
   if (opt_.fixedParticles) {
     const auto& gids = state.at("node implicit grid kinematics gids");
     const auto& values = state.at("node implicit grid kinematics");
@@ -59,6 +61,55 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
       for (int c = 0; c < 2 * Dim; ++c) k(n, c) = values[i * 2 * Dim + c];
     }
   }
+}
+
+// Multi-field contact: the active set (each owned node's state and slip directions, with its
+// global id: per rank) and the count of repeated solves. A checkpoint without them (or a new
+// decomposition's node the old rank did not own) starts Free.
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::saveContactStates(NamedArrays& state) const {
+  state["implicit contact re-solves"] = {double(contactResolves_)};
+  const ContactActiveSet& set = conditions_.implicitContactSet();
+  auto st = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), set.state);
+  auto dir = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), set.direction);
+  const auto map = dist_.ownedNodeMap();
+  auto& gids = state["node implicit contact gids"];
+  auto& states = state["node implicit contact states"];
+  auto& directions = state["node implicit contact directions"];
+  for (size_t n = 0; n < st.extent(0); ++n) {
+    gids.push_back(double(map->getGlobalElement((LO)n)));
+    for (size_t f = 0; f < st.extent(1); ++f) states.push_back(st(n, f));
+    for (size_t c = 0; c < dir.extent(1); ++c) directions.push_back(dir(n, c));
+  }
+}
+
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::restoreContactStates(const NamedArrays& state) {
+  const auto resolves = state.find("implicit contact re-solves");
+  if (resolves != state.end() && !resolves->second.empty()) contactResolves_ = long(resolves->second[0]);
+  const auto gids = state.find("node implicit contact gids");
+  if (gids == state.end()) return;
+  const std::vector<double>& states = state.at("node implicit contact states");
+  const std::vector<double>& directions = state.at("node implicit contact directions");
+  const auto map = dist_.ownedNodeMap();
+  ContactActiveSet& set = conditions_.implicitContactSet();
+  set.fit(map->getNodeNumElements(), fields_);
+  auto st = Kokkos::create_mirror_view(set.state);
+  auto dir = Kokkos::create_mirror_view(set.direction);
+  Kokkos::deep_copy(st, set.state);
+  Kokkos::deep_copy(dir, set.direction);
+  const size_t fields = st.extent(1), width = dir.extent(1);
+  if (states.size() != gids->second.size() * fields || directions.size() != gids->second.size() * width)
+    throw std::runtime_error("checkpoint: the implicit contact states do not match " + std::to_string(fields) +
+                             " fields");
+  for (size_t i = 0; i < gids->second.size(); ++i) {
+    const LO n = map->getLocalElement((GO)gids->second[i]);
+    if (n == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+    for (size_t f = 0; f < fields; ++f) st(n, f) = int(states[i * fields + f]);
+    for (size_t c = 0; c < width; ++c) dir(n, c) = directions[i * width + c];
+  }
+  Kokkos::deep_copy(set.state, st);
+  Kokkos::deep_copy(set.direction, dir);
 }
 
 }  // namespace impm

@@ -111,6 +111,33 @@ void ImplicitNewmark<Shape, Dim>::recordReactions(const Vector& u) {
   if (conditions_.hasWalls()) conditions_.template recordImplicitWallReactions<Exec>(heldWallReaction());
 }
 
+// Multi-field contact: after a converged solve, each contact node's state (free, stick, slip) from
+// the trial end velocities at u (collective); true when any changed, and the step is to be solved
+// again with the new set (ContactActiveSet). The residual of each solve is smooth in u: Newton does
+// not meet Coulomb's kink, which the classification between solves settles instead.
+template <class Shape, int Dim>
+bool ImplicitNewmark<Shape, Dim>::reviseContactStates(const Vector& u) {
+  using SC = implicit::StateColumns<Dim>;
+  using DC = implicit::DisplacementColumns<Dim>;
+  Vector R(dofs_.map(), false);
+  residual(u, R);  // u in the grid displacement
+  int local = 0;
+  {
+    const NewmarkConstants k(opt_.newmark, dt_);
+    auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+    const int ss = stateStride_, ds = dispStride_;
+    const auto endVelocity = KOKKOS_LAMBDA(int n, int b, int c) {
+      const double v = s(n, b * ss + SC::VelX + c), a = s(n, b * ss + SC::AccX + c);
+      return v + k.velocityChange(a, k.newAcceleration(d(n, b * ds + DC::UX + c), v, a));
+    };
+    local = conditions_.template classifyImplicitContact<Exec>(s, SC::Mass, geometryCol_, ss, endVelocity);
+  }
+  int changes = 0;
+  Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
+  return changes > 0;
+}
+
 // Implicit walls: after a converged solve, the components to release or hold (collective); when
 // any changed, the free dofs follow and the step is to be solved again.
 template <class Shape, int Dim>

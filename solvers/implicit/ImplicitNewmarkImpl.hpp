@@ -304,9 +304,11 @@ StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt)
   using clock = std::chrono::steady_clock;
   auto t0 = clock::now();
   if (conditions_.hasWalls()) conditions_.implicitWalls().beginStep();
+  if (fields_ > 1) conditions_.keepImplicitContactStates(dist_.ownedNodeMap()->getNodeNumElements());
   setUpStep(t, dt);
   // With walls, the solve is repeated until the held wall components settle (at most
-  // ImplicitWallContact::maxSolves() solves; the last one stands).
+  // ImplicitWallContact::maxSolves() solves; the last one stands); with contact, until its active
+  // set settles (at most kMaxContactSolves).
   Teuchos::RCP<Vector> u;
   NewtonResult result;
   auto t2 = t0;
@@ -320,9 +322,15 @@ StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt)
     t2 = clock::now();
     statistics_.recordAttempt(result, std::chrono::duration<double>(t1 - t0).count(),
                               std::chrono::duration<double>(t2 - t1).count());
-    if (!result.converged) return {false, result.newtonIterations, result.reason};
+    if (!result.converged) {
+      if (fields_ > 1) conditions_.restoreImplicitContactStates();
+      return {false, result.newtonIterations, result.reason};
+    }
     t0 = clock::now();
-    if (!conditions_.hasWalls() || solve >= ImplicitWallContact::maxSolves() || !reviseWallContacts(*u)) break;
+    const bool again = conditions_.hasWalls() ? solve < ImplicitWallContact::maxSolves() && reviseWallContacts(*u)
+                                              : fields_ > 1 && solve < kMaxContactSolves && reviseContactStates(*u);
+    if (!again) break;
+    if (fields_ > 1) ++contactResolves_;
   }
   finishStep(*u);
   statistics_.recordStep(result, std::chrono::duration<double>(clock::now() - t2).count());
@@ -344,6 +352,7 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   statistics_.addHardestStep(s);
   control_.addAdaptive(s);
   statistics_.addCosts(s);
+  if (fields_ > 1) s.set("Contact Re-solves", int(contactResolves_));
   s.set("Configuration", implicit::describeSolver(solver_->parameters()));
 }
 
