@@ -3,13 +3,15 @@
 Every case is a deck of apps/ with a few keys changed; the closed forms and tolerances are those of
 test_contact, test_rigid_bodies and test_walls (which assert the same figures at np 1 and 2):
 - a block on a 30 degree incline (gravity rotated, g = 10 m/s^2) on an elastic slab (multi-field
-  contact), on a rough rigid wall, and on a rigid plane tilted across the grid: its travel at
-  t = 0.25 s against s = g (sin 30 - mu cos 30) t^2 / 2, or no motion for mu > tan 30;
+  contact, explicit and implicit), on a rough rigid wall, and on a rigid plane tilted across the
+  grid: its travel at t = 0.25 s against s = g (sin 30 - mu cos 30) t^2 / 2, or no motion for
+  mu > tan 30 (test_implicit_contact for the implicit rows);
 - a disk on the incline's slab, rolling (mu = 0.5: a = 2/3 g sin 30, spin a t / R) and slipping
   (mu = 0.1: a = g (sin 30 - mu cos 30), spin 2 mu g cos 30 t / R), at t = 0.2 s, from the last
   particle file (centroid and angular momentum over the moment of inertia of the disk's particles);
 - Sulsky's two elastic disks with frictionless contact at h and h / 2: the relative velocity reverses,
-  momentum is kept, and the energy the contact costs falls with h;
+  momentum is kept, and the energy the contact costs falls with h; and implicit at h (10 explicit
+  steps per step): the same, with the energy lost below 20%;
 - a block braking on a rough floor (a Walls entry), explicit and implicit: v = v0 - mu g t;
 - an elastic bar hitting a frictionless wall, explicit and implicit: the wall force rho c v0 A.
 """
@@ -29,9 +31,11 @@ G, THETA = 10.0, math.pi / 6
 BLOCK_MASS = 0.04 * 0.01 * 1000.0  # kg per metre of thickness (40 x 10 mm, 1000 kg/m^3)
 
 INCLINE_DECK = "apps/block_incline_contact_explicit_gimp.yaml"
+INCLINE_IMPLICIT_DECK = "apps/block_incline_contact_implicit_gimp.yaml"
 TILTED_DECK = "apps/block_tilted_plane_rigid_explicit_gimp.yaml"
 DISK_DECK = "apps/disk_incline_contact_explicit_gimp.yaml"
 DISKS_DECK = "apps/colliding_disks_contact_explicit_gimp.yaml"
+DISKS_IMPLICIT_DECK = "apps/colliding_disks_contact_implicit_gimp.yaml"
 BRAKING_DECK = "apps/block_sliding_friction_explicit_gimp.yaml"
 BAR_DECK = "apps/bar_wall_impact_explicit_gimp.yaml"
 
@@ -41,6 +45,7 @@ ROLL_TOL = 0.08            # rolling disk: travel and spin within 8% (the contac
 SLIP_TRAVEL_TOL = 0.05     # slipping disk: travel within 5%
 DISKS_LOSS_MAX = 0.25      # colliding disks: energy lost below 25% at h ...
 DISKS_LOSS_RATIO = 0.5     # ... and at h / 2 below half of that
+DISKS_IMPLICIT_LOSS_MAX = 0.20  # implicit disks at h: energy lost below 20% (test_implicit_contact)
 BRAKING_TOL = 0.03         # braking block: velocity within 3% at 0.09 s and 0.25 s
 WEIGHT_TOL = 0.02          # the floor carries M g within 2%
 BAR_FORCE_TOL = {"explicit": 0.02, "implicit": 0.03}  # wall force over the middle of the contact
@@ -66,7 +71,7 @@ def sliding_travel(mu, t):
 
 
 def plan(repo, reduced):
-    p = {"reduced": reduced, "incline": [], "disk": [], "disks": [], "braking": [], "bar": []}
+    p = {"reduced": reduced, "incline": [], "disk": [], "disks": [], "disks_implicit": [], "braking": [], "bar": []}
     if reduced:  # the ctests assert these figures; the reduced report leaves them out
         return p
     ramp = {"Loads/gravity/Time Function": "Ramp", "Loads/gravity/Ramp Time": 0.05}
@@ -81,10 +86,16 @@ def plan(repo, reduced):
           "Walls/incline/Normal": "y+", "Walls/incline/Position": 0.0, "Walls/incline/Friction": 0.3}, "block travel"),
         ("rigid plane tilted across the grid, mu = 0", 0.0, TILTED_DECK, {"Contact/Friction": 0.0}, "tilted"),
         ("rigid plane tilted across the grid, mu = 0.3", 0.3, TILTED_DECK, {}, "tilted"),
+        ("implicit (1 ms steps), elastic slab, mu = 0", 0.0, INCLINE_IMPLICIT_DECK, {"Contact/Friction": 0.0},
+         "block travel"),
+        ("implicit, elastic slab, mu = 0.3", 0.3, INCLINE_IMPLICIT_DECK, {}, "block travel"),
+        ("implicit, elastic slab, mu = 0.7 (gravity ramped over 0.05 s)", 0.7, INCLINE_IMPLICIT_DECK,
+         dict(ramp, **{"Contact/Friction": 0.7}), "block travel"),
     ]
     for i, (text, mu, deck, ov, how) in enumerate(incline):
         name = f"contact_incline_{i}_{'tilted' if deck == TILTED_DECK else 'wall' if 'Walls' in str(ov) else 'slab'}_mu{mu:g}"
-        p["incline"].append({"text": text, "mu": mu, "how": how, "case": _case(repo, name, deck, ov, "explicit GIMP")})
+        method = "implicit GIMP" if deck == INCLINE_IMPLICIT_DECK else "explicit GIMP"
+        p["incline"].append({"text": text, "mu": mu, "how": how, "case": _case(repo, name, deck, ov, method)})
     for mu in (0.5, 0.1):
         name = f"contact_disk_incline_mu{mu:g}"
         p["disk"].append({"mu": mu, "case": _case(repo, name, DISK_DECK, {"Contact/Friction": mu}, "explicit GIMP",
@@ -95,6 +106,8 @@ def plan(repo, reduced):
               "Integrator/Number of Steps": 3500 * refine, "Output/History Interval": 10 * refine}
         p["disks"].append({"refine": refine, "case": _case(repo, f"contact_disks_h{refine}", DISKS_DECK, ov,
                                                             "explicit GIMP", vtk=True)})
+    p["disks_implicit"].append({"refine": 1, "case": _case(repo, "contact_disks_implicit_h1", DISKS_IMPLICIT_DECK, {},
+                                                           "implicit GIMP", vtk=True)})
     p["braking"].append({"scheme": "explicit", "ramp": 0.0, "case": _case(
         repo, "walls_braking_explicit", BRAKING_DECK,
         {"Integrator/Number of Steps": 16000, "Output/History Interval": 100}, "explicit GIMP")})
@@ -110,7 +123,7 @@ def plan(repo, reduced):
 
 
 def cases_of(p):
-    return [e["case"] for key in ("incline", "disk", "disks", "braking", "bar") for e in p[key]]
+    return [e["case"] for key in ("incline", "disk", "disks", "disks_implicit", "braking", "bar") for e in p[key]]
 
 
 # ---------------------------------------------------------------- measurements
@@ -248,6 +261,7 @@ def compute(runs, p):
            "incline": [_incline_result(e, runs[e["case"].name]) for e in p["incline"]],
            "disk": [_disk_result(e, runs[e["case"].name]) for e in p["disk"]],
            "disks": [_disks_result(e, runs[e["case"].name]) for e in p["disks"]],
+           "disks_implicit": [_disks_result(e, runs[e["case"].name]) for e in p.get("disks_implicit", [])],
            "braking": [_braking_result(e, runs[e["case"].name]) for e in p["braking"]],
            "bar": [_bar_result(e, runs[e["case"].name]) for e in p["bar"]]}
     res["checks"] = evaluate(res)
@@ -308,6 +322,18 @@ def evaluate(res):
                              f"lower ({r['lower'][0]:.4f}, {r['lower'][1]:.4f}), upper ({r['upper'][0]:.4f}, "
                              f"{r['upper'][1]:.4f}) m/s from -+(0.1, 0.1); largest pull {r['pull']:.2g} N of peak "
                              f"{r['peak']:.3g} N; momentum {r['momentum']:.2g}"))
+    for r in res["disks_implicit"]:
+        name = "Contact, colliding disks, implicit"
+        if not r["run"].ok:
+            out.append(failed_run(name, r["run"]))
+            continue
+        reversed_ = all(r["lower"][i] < -0.05 for i in range(2)) and all(r["upper"][i] > 0.05 for i in range(2))
+        out.append(Check(name + ": velocities reversed, no pull, momentum kept, energy lost below 20%",
+                         reversed_ and r["pull"] <= 1e-9 * r["peak"] and r["momentum"] < 1e-11 * r["mass_velocity"]
+                         and _fin(r["loss"]) and 0 < r["loss"] < DISKS_IMPLICIT_LOSS_MAX,
+                         f"lower ({r['lower'][0]:.4f}, {r['lower'][1]:.4f}), upper ({r['upper'][0]:.4f}, "
+                         f"{r['upper'][1]:.4f}) m/s; largest pull {r['pull']:.2g} N of peak {r['peak']:.3g} N; "
+                         f"momentum {r['momentum']:.2g}; energy lost {100 * r['loss']:.1f}%"))
     for r in res["braking"]:
         name = f"Walls, block braking on a rough floor ({r['scheme']})"
         if not r["run"].ok:
@@ -407,14 +433,16 @@ def _pct(v):
 
 def markdown(res, rel_img):
     L = ["## 10. Bodies that meet: walls, rigid bodies and contact", ""]
-    if not any(res[k] for k in ("incline", "disk", "disks", "braking", "bar")):
+    if not any(res[k] for k in ("incline", "disk", "disks", "disks_implicit", "braking", "bar")):
         return L + ["Not in the reduced report (test_contact, test_rigid_bodies and test_walls assert these figures).", ""]
     L += [
         "Rigid-body closed forms for bodies that touch a wall or each other. The block (40 x 10 mm, c = 10 m/s, "
         "2 x 2 particles per cell, h = 2.5 mm, explicit GIMP, USL) sits on a 30 degree incline: gravity rotated on "
         f"the grid, on an elastic slab (`{INCLINE_DECK}`, multi-field contact) or a rough wall (`Walls`), or gravity "
         f"straight down on a rigid plane tilted across the grid (`{TILTED_DECK}`, neither surface on grid lines). The "
-        "closed form is s = g (sin 30 - mu cos 30) t^2 / 2, zero for mu > tan 30 = 0.577.",
+        "closed form is s = g (sin 30 - mu cos 30) t^2 / 2, zero for mu > tan 30 = 0.577. The implicit rows "
+        f"(`{INCLINE_IMPLICIT_DECK}`) take steps of 1 ms, 40 explicit ones; their friction holds or slips each contact "
+        "node through an active set (user guide, contact in the implicit step).",
         "",
     ]
     rows = []
@@ -455,11 +483,13 @@ def markdown(res, rel_img):
               "they stick; with it each leaves with its velocity reversed. The contact, detected when the two "
               "fields approach (up to a cell before the surfaces meet), costs energy that falls with h.", ""]
         rows = []
-        for r in res["disks"]:
+        labelled = [(f"h / {r['refine']}", r) for r in res["disks"]]
+        labelled += [("h, implicit (dt = 10 explicit steps)", r) for r in res["disks_implicit"]]
+        for label, r in labelled:
             if not r["run"].ok:
-                rows.append([f"h / {r['refine']}", "failed", "", "", "", ""])
+                rows.append([label, "failed", "", "", "", ""])
                 continue
-            rows.append([f"h / {r['refine']}", f"{100 * r['loss']:.1f}%",
+            rows.append([label, f"{100 * r['loss']:.1f}%",
                          f"({r['lower'][0]:.4f}, {r['lower'][1]:.4f})", f"({r['upper'][0]:.4f}, {r['upper'][1]:.4f})",
                          f"{r['peak']:.3g}", f"{r['run'].wall:.1f}"])
         L += table(["grid", "energy lost", "lower disk leaves at (m/s)", "upper disk leaves at (m/s)",
