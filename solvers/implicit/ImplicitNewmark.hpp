@@ -168,6 +168,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   // at the trial displacement in the residual.
   void checkContactUsable() const;
   void addContactForces();
+  auto trialEndVelocity() const;  // field b's trial end velocity at owned node n, component c
   // Runs f(columns) with each particle's field in grid views whose fields are `stride` columns
   // apart: SingleField with one field (the kernels' columns stay compile-time constants), or
   // FieldColumns.

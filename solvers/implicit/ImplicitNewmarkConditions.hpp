@@ -14,6 +14,22 @@
 
 namespace impm {
 
+// Field b's end-of-step velocity at owned node n (component c) for the grid displacement u last
+// scattered (Newmark): what the contact law sees.
+template <class Shape, int Dim>
+auto ImplicitNewmark<Shape, Dim>::trialEndVelocity() const {
+  using SC = implicit::StateColumns<Dim>;
+  using DC = implicit::DisplacementColumns<Dim>;
+  const NewmarkConstants k(opt_.newmark, dt_);
+  auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  const int ss = stateStride_, ds = dispStride_;
+  return KOKKOS_LAMBDA(int n, int b, int c) {
+    const double v = s(n, b * ss + SC::VelX + c), a = s(n, b * ss + SC::AccX + c);
+    return v + k.velocityChange(a, k.newAcceleration(d(n, b * ds + DC::UX + c), v, a));
+  };
+}
+
 // The contact force in the residual: a penalty on the contact law's correction of the trial state.
 // At u, each field's end velocity v_new(u) (Newmark) goes through the contact law, which returns
 // v* (approach removed, slip reduced by Coulomb friction, separating bodies unchanged); the force
@@ -27,22 +43,18 @@ namespace impm {
 // Each field's start acceleration comes from its own body's forces, without contact's: the end
 // force carries the whole impulse. (Correcting the start accelerations by the law, as the explicit
 // step corrects velocities, would make its friction act on the relative acceleration rather than
-// on the slip: a block on an incline then slides 12% too far.) The residual kinks where bodies meet
-// or start to slip; Newton needs a line search there (Backtrack, the default with contact).
+// on the slip: a block on an incline then slides 12% too far.) Frictional contact goes through the
+// active set (reviseContactStates), which each solve holds fixed; the frictionless law kinks where
+// bodies meet or part, and Newton takes a line search there (Backtrack, the default with contact).
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::addContactForces() {
   using SC = implicit::StateColumns<Dim>;
-  using DC = implicit::DisplacementColumns<Dim>;
   using FC = implicit::ForceColumns<Dim>;
   const NewmarkConstants k(opt_.newmark, dt_);
   auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-  auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-  const int ss = stateStride_, ds = dispStride_;
-  const auto endVelocity = KOKKOS_LAMBDA(int n, int b, int c) {
-    const double v = s(n, b * ss + SC::VelX + c), a = s(n, b * ss + SC::AccX + c);
-    return v + k.velocityChange(a, k.newAcceleration(d(n, b * ds + DC::UX + c), v, a));
-  };
+  const int ss = stateStride_;
+  const auto endVelocity = trialEndVelocity();
   double h = dist_.grid().spacing(0);
   for (int c = 1; c < Dim; ++c) h = std::min(h, dist_.grid().spacing(c));
   const double wave = mat_.maxPWaveSpeed();
@@ -118,20 +130,13 @@ void ImplicitNewmark<Shape, Dim>::recordReactions(const Vector& u) {
 template <class Shape, int Dim>
 bool ImplicitNewmark<Shape, Dim>::reviseContactStates(const Vector& u) {
   using SC = implicit::StateColumns<Dim>;
-  using DC = implicit::DisplacementColumns<Dim>;
   Vector R(dofs_.map(), false);
   residual(u, R);  // u in the grid displacement
   int local = 0;
   {
-    const NewmarkConstants k(opt_.newmark, dt_);
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const int ss = stateStride_, ds = dispStride_;
-    const auto endVelocity = KOKKOS_LAMBDA(int n, int b, int c) {
-      const double v = s(n, b * ss + SC::VelX + c), a = s(n, b * ss + SC::AccX + c);
-      return v + k.velocityChange(a, k.newAcceleration(d(n, b * ds + DC::UX + c), v, a));
-    };
-    local = conditions_.template classifyImplicitContact<Exec>(s, SC::Mass, geometryCol_, ss, endVelocity);
+    local =
+        conditions_.template classifyImplicitContact<Exec>(s, SC::Mass, geometryCol_, stateStride_, trialEndVelocity());
   }
   int changes = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
