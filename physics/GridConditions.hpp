@@ -151,21 +151,12 @@ class GridConditions {
   }
 
   // Implicit walls: an active set with Coulomb friction (physics/ImplicitWallContact.hpp), driven
-  // by the implicit step; recordImplicitWallReactions and rubImplicitWalls sum its forces per wall.
+  // by the implicit step; recordImplicitWallReactions sums its forces per wall.
   ImplicitWallContact& implicitWalls() { return implicitWalls_; }
   const ImplicitWallContact& implicitWalls() const { return implicitWalls_; }
   template <class ExecSpace, class ReactionAt>
   void recordImplicitWallReactions(const ReactionAt& reactionAt) {
     implicitWalls_.record<ExecSpace>(reactionAt);
-    sumWallReactions();
-  }
-  // The friction of the held nodes at the step's end (ImplicitWallContact::rub), its forces added
-  // to the walls' reactions.
-  template <class ExecSpace, class DispView, class StateView, class ReactionAt>
-  void rubImplicitWalls(const DispView& d, int anewCol, int dvCol, const StateView& s, int massCol, int velCol,
-                        const ReactionAt& reactionAt, double dt, double gamma) {
-    if (!implicitWalls_.frictional()) return;
-    implicitWalls_.rub<ExecSpace>(d, anewCol, dvCol, s, massCol, velCol, reactionAt, dt, gamma);
     sumWallReactions();
   }
 

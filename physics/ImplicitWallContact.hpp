@@ -1,6 +1,5 @@
 // Rigid walls in the implicit step: an active set on the normal component, and Coulomb friction
-// as a stick/slip set with the sliding rub applied after the solve (GridConditions owns one;
-// ImplicitNewmark drives it).
+// as a stick/slip set held fixed in each solve (GridConditions owns one; ImplicitNewmark drives it).
 //
 // Normal. Each step starts by holding a wall node's normal component (not an unknown: no
 // displacement into the wall) where the node has mass and its start motion, v + dt a / 2, does not
@@ -10,29 +9,27 @@
 // change is -v (FLIP particles receive the stop, as in the explicit step), and its reaction is the
 // force that stops it, N = -m v / dt - F_int - F_ext.
 //
-// Friction (mu > 0): stick in the solve, slip after it. A held node starts the step slipping (its
-// tangential components free; the first solve is frictionless). revise() makes it stick where
-// friction could stop it within the step, m |v_t| <= mu N dt with v_t its tangential end
-// velocity and N its normal reaction in that solve: its tangential components are then held (at
-// rest at the step's end), and their reaction F_t is the force that keeps it in place; and lets
-// a stuck node slip for good where |F_t| > mu N: its tangential components are unknowns again,
-// loaded in the residual by the friction force mu N F_t / |F_t| of that solve (a constant load,
-// so the preconditioner is unchanged), so that the nodes still stuck do not carry its share.
-// Each node changes at most twice per step, so the solves end. A node that slips from the first
-// solve to the last is rubbed after it as the explicit wall rubs it:
-// its tangential end velocity loses at most mu N dt / m, its new acceleration follows
-// (da = dv / (gamma dt)), the particles receive the velocity change (FLIP), and the force is
-// m dv / dt. Newton sees no kink (stuck components are prescribed, slipping ones free); the price
-// of rubbing after the solve is a split error of first order in dt, as the step's equilibrium
-// sees the sliding friction only through the velocities it leaves (test_walls: a block sliding
-// to a stop, 1.2% of its velocity at dt = 100 explicit steps, 0.6% at 50). The step's
-// displacement is the solve's: moving a rubbed node by Newmark's beta dt / gamma dv as well
-// strained the layer above a light node by order one. Within some 30% of the stick threshold the
-// set does not settle in maxSolves() solves and a block creeps (user guide, limitations).
+// Friction (mu > 0). A held node of a frictional wall sticks or slips, and each solve holds that
+// fixed, so that Newton never meets Coulomb's kink:
+// - Stick: its tangential components are held too (at rest at the step's end); their reaction
+//   F_t is the force that keeps it in place.
+// - Slip: its tangential components are unknowns, loaded in the residual by the friction
+//   -mu N s along its slip direction s, with N the normal reaction at the residual's own point
+//   (addFriction()): at the converged solve the friction is exactly mu times the normal force.
+// After a converged solve, revise() sticks a slipping node whose motion over the step no longer
+// runs along s (the friction stopped it within the step), and lets a stuck node slip where
+// |F_t| > mu N, along -F_t. The states carry over from step to step; a node the wall did not hold
+// at the end of the last step starts slipping along its start velocity, or stuck if it has none.
+// So a block at rest stays stuck and a sliding one slips without a solve to find out. A node whose
+// slip direction turns by more than about 8 degrees (3D) counts as a change too. Friction at the
+// trapezoidal rule's end of step: the residual takes it over gamma (addFriction()). Its dependence
+// on u through N is in the Jacobian-free residual; the preconditioner does not see it.
 #pragma once
 
 #include <Kokkos_Core.hpp>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "core/Types.hpp"
 
@@ -42,6 +39,8 @@ class ImplicitWallContact {
  public:
   using IntView = Kokkos::View<int*, DeviceType>;
   using Table = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>;
+  // The tangential states of a held node of a frictional wall.
+  static constexpr int kStick = 0, kSlip = 1;
 
   ImplicitWallContact() = default;
   // Per wall node: its owned node, its wall, the components the wall may change (bit d), and per
@@ -56,51 +55,26 @@ class ImplicitWallContact {
         frictional_(frictional),
         held_("wall_held", node.extent(0)),
         decided_("wall_decided", node.extent(0)),
-        slip_("wall_slip", node.extent(0)),
+        tangent_("wall_tangent_state", node.extent(0)),
+        fresh_("wall_fresh", node.extent(0)),
+        direction_("wall_slip_direction", node.extent(0), 3),
         friction_("wall_friction", node.extent(0), 3),
-        load_("wall_external_load", node.extent(0), 3) {}
+        normal_("wall_normal_force", node.extent(0)) {}
 
   bool frictional() const { return frictional_; }
   // The solves a step may take before its last one stands.
   static constexpr int maxSolves() { return 5; }
 
-  // A new step: every decision from the start motion, every node slipping.
-  void beginStep() {
-    Kokkos::deep_copy(decided_, 0);
-    Kokkos::deep_copy(slip_, kSlips);
-    Kokkos::deep_copy(friction_, 0.0);
-  }
-
-  // The external force F_ext (columns fextCol..) at the wall nodes before any friction (frictional
-  // walls only), kept so that loadFriction() can add the friction of the nodes that slip for good.
-  template <class ExecSpace, class StateView>
-  void keepLoads(const StateView& s, int fextCol) const {
-    if (!frictional_) return;
-    auto node = node_;
-    auto load = load_;
-    const int dim = dim_;
+  // A new step: the normal decisions from the start motion; a node held at the end of the last
+  // step keeps its tangential state, the others take one from their start motion when held.
+  void beginStep() const {
+    auto held = held_;
+    auto fresh = fresh_;
+    auto decided = decided_;
     Kokkos::parallel_for(
-        "implicit_wall_keep_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          for (int c = 0; c < dim; ++c) load(k, c) = s(node(k), fextCol + c);
-        });
-  }
-
-  // F_ext at the wall nodes = the kept loads + the friction of the nodes that slip for good.
-  template <class ExecSpace, class StateView>
-  void loadFriction(const StateView& s, int fextCol) const {
-    if (!frictional_) return;
-    auto node = node_;
-    auto load = load_;
-    auto friction = friction_;
-    const int dim = dim_;
-    Kokkos::parallel_for(
-        "implicit_wall_reset_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          for (int c = 0; c < dim; ++c) s(node(k), fextCol + c) = load(k, c);
-        });
-    Kokkos::parallel_for(
-        "implicit_wall_friction_loads", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          for (int c = 0; c < dim; ++c)
-            if (friction(k, c) != 0.0) Kokkos::atomic_add(&s(node(k), fextCol + c), friction(k, c));
+        "implicit_wall_begin_step", Kokkos::RangePolicy<>(0, held.extent(0)), KOKKOS_LAMBDA(int k) {
+          fresh(k) = held(k) ? 0 : 1;
+          decided(k) = 0;
         });
   }
 
@@ -114,7 +88,7 @@ class ImplicitWallContact {
     auto held = held_;
     auto decided = decided_;
     auto mask = mask_;
-    auto slip = slip_;
+    auto tangent = tangent_;
     const int dim = dim_;
     if (frictional_)  // tangential components: free where massive, before the walls decide
       Kokkos::parallel_for(
@@ -135,61 +109,125 @@ class ImplicitWallContact {
           held(k) = hold ? 1 : 0;
           s(n, freeCol + axis) = massive && !hold ? 1.0 : 0.0;
         });
+    auto fresh = fresh_;
+    auto direction = direction_;
+    if (frictional_)  // a node held anew slips along its start velocity (sticks at rest)
+      Kokkos::parallel_for(
+          "implicit_wall_start_tangent", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+            if (!held(k) || !fresh(k)) return;
+            fresh(k) = 0;
+            const int n = node(k), axis = (int)params(wall(k), 0);
+            double v[3] = {0.0, 0.0, 0.0}, length = 0.0;
+            for (int c = 0; c < dim; ++c)
+              if (c != axis && (mask(k) >> c) & 1) v[c] = s(n, velCol + c);
+            for (int c = 0; c < 3; ++c) length += v[c] * v[c];
+            length = std::sqrt(length);
+            tangent(k) = length > 0.0 ? kSlip : kStick;
+            for (int c = 0; c < 3; ++c) direction(k, c) = length > 0.0 ? v[c] / length : 0.0;
+          });
     if (frictional_)  // a stuck node's tangential components are held
       Kokkos::parallel_for(
           "implicit_wall_stick", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-            if (!stuck(held, slip, params, wall, k)) return;
+            if (!stuck(held, tangent, params, wall, k)) return;
             const int axis = (int)params(wall(k), 0);
             for (int c = 0; c < dim; ++c)
               if (c != axis && (mask(k) >> c) & 1) s(node(k), freeCol + c) = 0.0;
           });
   }
 
-  // After a converged solve (owned displacement d at uCol.., the grid state s with the mass at
-  // massCol, reactionAt(n, d) a held component's reaction, endVelocityAt(n, d) a free one's
-  // velocity at the step's end): the number of wall nodes this rank changes (released, held,
-  // stuck or slipping) for the next solve.
-  template <class ExecSpace, class DispView, class StateView, class ReactionAt, class EndVelocityAt>
-  int revise(const DispView& d, int uCol, const StateView& s, int massCol, const ReactionAt& reactionAt,
-             const EndVelocityAt& endVelocityAt, double dt, double tolerance) const {
+  // In the residual: each slipping node's friction -mu N s added to its free tangential components
+  // of the owned forces f (forceCol..), N = side (-m v / dt - F_int - F_ext) along the wall's axis
+  // at these forces (the held normal's reaction; the grid state s holds m, v, F_ext and the free
+  // flags). The normal's stop gives the impulse N dt; the trapezoidal velocity update gives gamma
+  // of the end force (the start acceleration comes from the body's forces alone), so the residual
+  // takes the friction over gamma for its impulse to be mu N dt. Kept per wall node for record().
+  template <class ExecSpace, class StateView, class ForceView>
+  void addFriction(const StateView& s, int massCol, int velCol, int fextCol, int freeCol, const ForceView& f,
+                   int forceCol, double dt, double gamma) const {
+    if (!frictional_) return;
+    auto node = node_;
+    auto wall = wall_;
+    auto params = params_;
+    auto held = held_;
+    auto mask = mask_;
+    auto tangent = tangent_;
+    auto direction = direction_;
+    auto friction = friction_;
+    auto normal = normal_;
+    const int dim = dim_;
+    // The normal forces first: at a corner one wall's tangent is the other's normal.
+    Kokkos::parallel_for(
+        "implicit_wall_normal_force", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          const int n = node(k), axis = (int)params(wall(k), 0);
+          const double side = params(wall(k), 1);
+          const bool slips = held(k) && tangent(k) == kSlip && params(wall(k), 2) > 0.0;
+          const double N =
+              side * (-s(n, massCol) * s(n, velCol + axis) / dt - f(n, forceCol + axis) - s(n, fextCol + axis));
+          normal(k) = slips && N > 0.0 ? N : 0.0;
+        });
+    Kokkos::parallel_for(
+        "implicit_wall_friction", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
+          const int n = node(k), axis = (int)params(wall(k), 0);
+          const double limit = params(wall(k), 2) * normal(k);
+          for (int c = 0; c < 3; ++c) {
+            const bool acts = limit > 0.0 && c < dim && c != axis && ((mask(k) >> c) & 1) && s(n, freeCol + c) > 0.5;
+            friction(k, c) = acts ? -limit * direction(k, c) : 0.0;
+            if (acts) Kokkos::atomic_add(&f(n, forceCol + c), friction(k, c) / gamma);
+          }
+        });
+  }
+
+  // After a converged solve (owned displacement d at uCol.., reactionAt(n, d) a held component's
+  // reaction): the number of wall nodes this rank changes (released, held, stuck, slipping or
+  // turned) for the next solve. A node held again after a release in the same step stays held, so
+  // that its normal changes at most twice a step.
+  template <class ExecSpace, class DispView, class ReactionAt>
+  int revise(const DispView& d, int uCol, const ReactionAt& reactionAt, double tolerance) const {
     auto node = node_;
     auto wall = wall_;
     auto params = params_;
     auto held = held_;
     auto decided = decided_;
     auto mask = mask_;
-    auto slip = slip_;
-    auto friction = friction_;
+    auto tangent = tangent_;
+    auto direction = direction_;
     const int dim = dim_;
     int changes = 0;
     Kokkos::parallel_reduce(
         "implicit_wall_revise", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)),
         KOKKOS_LAMBDA(int k, int& count) {
           const int n = node(k), axis = (int)params(wall(k), 0);
-          const double side = params(wall(k), 1);
-          if (held(k) && side * reactionAt(n, axis) < 0.0) {  // the wall pulls: let go
+          const double side = params(wall(k), 1), mu = params(wall(k), 2);
+          if (held(k) && decided(k) != 2 && side * reactionAt(n, axis) < 0.0) {  // the wall pulls: let go
             decided(k) = -1;
             ++count;
           } else if (!held(k) && side * d(n, uCol + axis) < -tolerance) {  // into the wall: hold
-            decided(k) = 1;
+            decided(k) = decided(k) < 0 ? 2 : 1;
             ++count;
-          } else if (held(k) && params(wall(k), 2) > 0.0 && slip(k) != kSlipsForGood) {
-            const double limit = params(wall(k), 2) * side * reactionAt(n, axis);  // mu N
-            double t2 = 0.0;  // |F_t|^2 of a stuck node, |m v_t / dt|^2 of a slipping one
+          } else if (held(k) && mu > 0.0) {
+            double t[3] = {0.0, 0.0, 0.0}, t2 = 0.0;  // a stuck node's F_t, a slipping one's motion u_t
             for (int c = 0; c < dim; ++c)
               if (c != axis && (mask(k) >> c) & 1) {
-                const double f = slip(k) == kStuck ? reactionAt(n, c) : s(n, massCol) * endVelocityAt(n, c) / dt;
-                t2 += f * f;
+                t[c] = tangent(k) == kStick ? reactionAt(n, c) : d(n, uCol + c);
+                t2 += t[c] * t[c];
               }
-            if (slip(k) == kStuck && t2 > limit * limit) {  // holding takes more than mu N
-              slip(k) = kSlipsForGood;
-              const double ratio = limit / std::sqrt(t2);
-              for (int c = 0; c < dim; ++c)
-                if (c != axis && (mask(k) >> c) & 1) friction(k, c) = ratio * reactionAt(n, c);
-              ++count;
-            } else if (slip(k) == kSlips && t2 <= limit * limit) {  // friction stops it
-              slip(k) = kStuck;
-              ++count;
+            const double length = std::sqrt(t2), limit = mu * side * reactionAt(n, axis);
+            if (tangent(k) == kStick) {
+              if (length > limit) {  // holding takes more than mu N: slip along -F_t
+                tangent(k) = kSlip;
+                for (int c = 0; c < 3; ++c) direction(k, c) = -t[c] / length;
+                ++count;
+              }
+            } else {
+              double along = 0.0;
+              for (int c = 0; c < dim; ++c) along += t[c] * direction(k, c);
+              if (!(along > 0.0)) {  // friction stopped it within the step
+                tangent(k) = kStick;
+                ++count;
+              } else if (along < 0.99 * length) {  // slips on, its direction turned
+                for (int c = 0; c < 3; ++c) direction(k, c) = t[c] / length;
+                ++count;
+              }
             }
           }
         },
@@ -197,8 +235,8 @@ class ImplicitWallContact {
     return changes;
   }
 
-  // After the last solve: the held components' reactions, a stuck node's tangential ones too (a
-  // slipping node's friction is rub()'s).
+  // After the last solve: the held components' reactions, a stuck node's tangential ones too, and
+  // a slipping node's friction at the last residual (addFriction()).
   template <class ExecSpace, class ReactionAt>
   void record(const ReactionAt& reactionAt) const {
     auto node = node_;
@@ -207,16 +245,18 @@ class ImplicitWallContact {
     auto held = held_;
     auto force = force_;
     auto mask = mask_;
-    auto slip = slip_;
+    auto tangent = tangent_;
     auto friction = friction_;
     const int dim = dim_;
+    const bool frictional = frictional_;
     Kokkos::parallel_for(
         "implicit_wall_reaction", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
           const int n = node(k), axis = (int)params(wall(k), 0);
-          const bool stuckNode = stuck(held, slip, params, wall, k);
+          const bool stuckNode = stuck(held, tangent, params, wall, k);
+          const bool slips = frictional && held(k) && !stuckNode && params(wall(k), 2) > 0.0;
           for (int c = 0; c < 3; ++c) {
             const bool heldComponent = held(k) && (c == axis || (stuckNode && c < dim && ((mask(k) >> c) & 1)));
-            force(k, c) = heldComponent ? reactionAt(n, c) : held(k) && slip(k) == kSlipsForGood ? friction(k, c) : 0.0;
+            force(k, c) = heldComponent ? reactionAt(n, c) : slips ? friction(k, c) : 0.0;
           }
         });
   }
@@ -230,13 +270,13 @@ class ImplicitWallContact {
     auto params = params_;
     auto held = held_;
     auto mask = mask_;
-    auto slip = slip_;
+    auto tangent = tangent_;
     const int dim = dim_;
     Kokkos::parallel_for(
         "implicit_wall_stop", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
           if (!held(k)) return;
           const int n = node(k), axis = (int)params(wall(k), 0);
-          const bool stuckNode = stuck(held, slip, params, wall, k);
+          const bool stuckNode = stuck(held, tangent, params, wall, k);
           for (int c = 0; c < dim; ++c)
             if (c == axis || (stuckNode && ((mask(k) >> c) & 1))) {
               d(n, dvCol + c) = -s(n, velCol + c);
@@ -245,65 +285,61 @@ class ImplicitWallContact {
         });
   }
 
-  // Friction on the end-of-step motion of the nodes that slipped in every solve (see the file comment): the new
-  // acceleration (anewCol..) and velocity change (dvCol..) in d, the start velocity and mass in s, reactionAt(n, axis)
-  // the held normal reaction N; each node's friction force goes into its tangential reaction.
-  template <class ExecSpace, class DispView, class StateView, class ReactionAt>
-  void rub(const DispView& d, int anewCol, int dvCol, const StateView& s, int massCol, int velCol,
-           const ReactionAt& reactionAt, double dt, double gamma) const {
-    if (!frictional_) return;
-    auto node = node_;
-    auto wall = wall_;
-    auto params = params_;
-    auto held = held_;
-    auto force = force_;
-    auto mask = mask_;
-    auto slip = slip_;
-    const int dim = dim_;
-    Kokkos::parallel_for(
-        "implicit_wall_friction", Kokkos::RangePolicy<ExecSpace>(0, node.extent(0)), KOKKOS_LAMBDA(int k) {
-          const int n = node(k), axis = (int)params(wall(k), 0);
-          const double side = params(wall(k), 1), mu = params(wall(k), 2), m = s(n, massCol);
-          const double normal = side * reactionAt(n, axis);
-          if (!held(k) || slip(k) != kSlips || mu <= 0.0 || !(normal > 0.0) || !(m > 0.0)) return;
-          double vt2 = 0.0;
-          for (int c = 0; c < dim; ++c)
-            if (c != axis && (mask(k) >> c) & 1) {
-              const double v = s(n, velCol + c) + d(n, dvCol + c);
-              vt2 += v * v;
-            }
-          const double vt = std::sqrt(vt2), limit = mu * normal * dt / m;
-          if (vt == 0.0) return;
-          const double removed = vt <= limit ? 1.0 : limit / vt;  // the fraction of v_t friction takes
-          for (int c = 0; c < dim; ++c)
-            if (c != axis && (mask(k) >> c) & 1) {
-              const double dv = -removed * (s(n, velCol + c) + d(n, dvCol + c));
-              d(n, dvCol + c) += dv;
-              d(n, anewCol + c) += dv / (gamma * dt);
-
-              force(k, c) += m * dv / dt;
-            }
-        });
+  // Each wall node's (owned node, wall), on the host.
+  std::vector<std::pair<int, int>> nodeWalls() const {
+    auto node = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), node_);
+    auto wall = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), wall_);
+    std::vector<std::pair<int, int>> pairs;
+    for (size_t k = 0; k < node.extent(0); ++k) pairs.push_back({node(k), wall(k)});
+    return pairs;
+  }
+  // The set a checkpoint keeps, per wall node (in the order of the wall nodes): held at the end of
+  // the step, the tangential state and the slip direction (3).
+  static constexpr int kStateWidth = 5;
+  std::vector<double> states() const {
+    auto held = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), held_);
+    auto tangent = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tangent_);
+    auto direction = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), direction_);
+    std::vector<double> rows;
+    for (size_t k = 0; k < held.extent(0); ++k) {
+      rows.insert(rows.end(), {double(held(k)), double(tangent(k))});
+      for (int c = 0; c < 3; ++c) rows.push_back(direction(k, c));
+    }
+    return rows;
+  }
+  // Restores the rows of states() given as (wall node, its kStateWidth values).
+  void restoreStates(const std::vector<std::pair<int, const double*>>& rows) const {
+    auto held = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), held_);
+    auto tangent = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tangent_);
+    auto direction = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), direction_);
+    for (const auto& [k, row] : rows) {
+      held(k) = int(row[0]);
+      tangent(k) = int(row[1]);
+      for (int c = 0; c < 3; ++c) direction(k, c) = row[2 + c];
+    }
+    Kokkos::deep_copy(held_, held);
+    Kokkos::deep_copy(tangent_, tangent);
+    Kokkos::deep_copy(direction_, direction);
   }
 
  private:
-  // A held node of a frictional wall that does not slip.
-  KOKKOS_INLINE_FUNCTION static bool stuck(const IntView& held, const IntView& slip, const Table& params,
+  // A held node of a frictional wall that sticks.
+  KOKKOS_INLINE_FUNCTION static bool stuck(const IntView& held, const IntView& tangent, const Table& params,
                                            const IntView& wall, int k) {
-    return held(k) && slip(k) == kStuck && params(wall(k), 2) > 0.0;
+    return held(k) && tangent(k) == kStick && params(wall(k), 2) > 0.0;
   }
-  // The tangential states of a held node of a frictional wall.
-  static constexpr int kSlips = 0, kStuck = 1, kSlipsForGood = 2;
 
   IntView node_, wall_, mask_;
   Table params_, force_;
   int dim_ = 2;
   bool frictional_ = false;
   // Per wall node: held in this solve (1); the step's decision from an earlier solve (1 hold, -1
-  // release, 0 by the start motion); the tangential state in this step; the friction force of a
-  // node that slips for good; F_ext before friction.
-  IntView held_, decided_, slip_;
-  Table friction_, load_;
+  // release, 2 held again for good, 0 by the start motion); the tangential state and slip direction, and whether they
+  // are still to be taken from the start motion (not held at the end of the last step); the friction and the normal
+  // force of a slipping node at the last residual.
+  IntView held_, decided_, tangent_, fresh_;
+  Table direction_, friction_;
+  Kokkos::View<double*, DeviceType> normal_;
 };
 
 }  // namespace impm

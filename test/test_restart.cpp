@@ -182,6 +182,32 @@ TEUCHOS_UNIT_TEST(Restart, ImplicitMultiFieldContactDisks) {
   checkRestart(deck, "implicit_contact_disks", 40, 25, out, success);
 }
 
+// Implicit frictional walls: the block of test_walls' ImplicitRoughFloorAtTheStickThreshold held
+// by friction (mu = 0.7, gravity tilted by 30 degrees and ramped over 0.05 s), restarted at step
+// 25. Each wall node's hold, stick or slip and slip direction carry over from step to step and come
+// back from the checkpoint; without them the restarted run starts its nodes from their start
+// motion and differs by 2% (measured).
+TEUCHOS_UNIT_TEST(Restart, ImplicitFrictionalWall) {
+  ParameterList deck = deckOf("block_sliding_friction_explicit_gimp.yaml");
+  deck.sublist("Bodies").sublist("block").set("Velocity X", 0.0);
+  deck.sublist("Walls").sublist("floor").set("Friction", 0.7);
+  deck.sublist("Grid").set("Cells X", 40).set("Cells Y", 4);
+  deck.sublist("Decomposition").set("Ranks X", 1);
+  deck.sublist("Integrator").set("Type", "Implicit").set("Time Step", 2.5e-3);
+  deck.sublist("Integrator").sublist("Implicit").set("Newmark Gamma", 0.6).set("Newmark Beta", 0.3025);
+  deck.sublist("Loads")
+      .sublist("gravity")
+      .set("Time Function", "Ramp")
+      .set("Ramp Time", 0.05)
+      .set("Acceleration X", 5.0)
+      .set("Acceleration Y", -10.0 * std::cos(M_PI / 6));
+  deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 1).set("Plot", false);
+  ParameterList& s = deck.sublist("Implicit Solver");
+  s.set("Linear Tolerance", 1e-12).set("Residual Tolerance", 1e-13).set("Residual Magnitude Tolerance", 0.0);
+  s.set("Maximum Newton Iterations", 30);
+  checkRestart(deck, "implicit_frictional_wall", 40, 25, out, success);
+}
+
 // APIC: each particle's affine velocity C_p is part of the checkpoint (and migrates at np 2); a
 // restart without it would start from C_p = 0 and differ from the first step on.
 TEUCHOS_UNIT_TEST(Restart, ApicCollidingDisks) {

@@ -75,15 +75,18 @@ def plan(repo, reduced):
     if reduced:  # the ctests assert these figures; the reduced report leaves them out
         return p
     ramp = {"Loads/gravity/Time Function": "Ramp", "Loads/gravity/Ramp Time": 0.05}
+
+    def on_wall(mu):  # the block on a rough rigid wall in place of the slab
+        return {"Bodies/slab": decks.DELETE, "Bodies/block/Y Min": 0.0, "Bodies/block/Y Max": 0.01,
+                "Monitors/block travel/Y": 0.005, "Constraints": decks.DELETE, "Contact/Type": "Single Field",
+                "Walls/incline/Normal": "y+", "Walls/incline/Position": 0.0, "Walls/incline/Friction": mu}
+
     incline = [
         ("elastic slab, mu = 0", 0.0, INCLINE_DECK, {"Contact/Friction": 0.0}, "block travel"),
         ("elastic slab, mu = 0.3", 0.3, INCLINE_DECK, {}, "block travel"),
         ("elastic slab, mu = 0.7 (gravity ramped over 0.05 s)", 0.7, INCLINE_DECK,
          dict(ramp, **{"Contact Pairs/rough/Bodies": "block, slab", "Contact Pairs/rough/Friction": 0.7}), "block travel"),
-        ("rough rigid wall (Walls), mu = 0.3", 0.3, INCLINE_DECK,
-         {"Bodies/slab": decks.DELETE, "Bodies/block/Y Min": 0.0, "Bodies/block/Y Max": 0.01,
-          "Monitors/block travel/Y": 0.005, "Constraints": decks.DELETE, "Contact/Type": "Single Field",
-          "Walls/incline/Normal": "y+", "Walls/incline/Position": 0.0, "Walls/incline/Friction": 0.3}, "block travel"),
+        ("rough rigid wall (Walls), mu = 0.3", 0.3, INCLINE_DECK, on_wall(0.3), "block travel"),
         ("rigid plane tilted across the grid, mu = 0", 0.0, TILTED_DECK, {"Contact/Friction": 0.0}, "tilted"),
         ("rigid plane tilted across the grid, mu = 0.3", 0.3, TILTED_DECK, {}, "tilted"),
         ("implicit (1 ms steps), elastic slab, mu = 0", 0.0, INCLINE_IMPLICIT_DECK, {"Contact/Friction": 0.0},
@@ -91,6 +94,9 @@ def plan(repo, reduced):
         ("implicit, elastic slab, mu = 0.3", 0.3, INCLINE_IMPLICIT_DECK, {}, "block travel"),
         ("implicit, elastic slab, mu = 0.7 (gravity ramped over 0.05 s)", 0.7, INCLINE_IMPLICIT_DECK,
          dict(ramp, **{"Contact/Friction": 0.7}), "block travel"),
+        ("implicit, rough rigid wall (Walls), mu = 0.3", 0.3, INCLINE_IMPLICIT_DECK, on_wall(0.3), "block travel"),
+        ("implicit, rough rigid wall (Walls), mu = 0.7 (gravity ramped over 0.05 s)", 0.7, INCLINE_IMPLICIT_DECK,
+         dict(ramp, **on_wall(0.7)), "block travel"),
     ]
     for i, (text, mu, deck, ov, how) in enumerate(incline):
         name = f"contact_incline_{i}_{'tilted' if deck == TILTED_DECK else 'wall' if 'Walls' in str(ov) else 'slab'}_mu{mu:g}"

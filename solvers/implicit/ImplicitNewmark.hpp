@@ -154,6 +154,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   bool reviseContactStates(const Vector& u);            // contact: the active set anew; true if any changed
   void saveContactStates(NamedArrays& state) const;     // checkpoint: the contact active set, by node id
   void restoreContactStates(const NamedArrays& state);
+  void saveWallStates(NamedArrays& state) const;  // checkpoint: the walls' active set, by node id and wall
+  void restoreWallStates(const NamedArrays& state);
   // With contact, solves of one step before the last active set stands.
   static constexpr int kMaxContactSolves = 8;
   auto heldWallReaction() const;
@@ -219,7 +221,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   StepControl control_;
   ImplicitStatistics statistics_;
-  long contactResolves_ = 0;  // the solves repeated for a changed contact active set
+  long resolves_ = 0;  // the solves repeated for a changed active set (contact or walls)
 };
 
 }  // namespace impm

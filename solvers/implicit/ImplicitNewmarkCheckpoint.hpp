@@ -4,7 +4,9 @@
 
 #include "solvers/implicit/ImplicitNewmark.hpp"
 
+#include <map>
 #include <stdexcept>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -22,7 +24,9 @@ void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
   // A Jacobian-free run reuses P (and its preconditioner) for later steps: kept, per rank.
   state["implicit ranks"] = {double(dist_.comm()->getSize())};
   if (jacobianFree() && !assembler_.matrix().is_null()) assembler_.save(state["node implicit P"]);
+  state["implicit re-solves"] = {double(resolves_)};
   if (fields_ > 1) saveContactStates(state);
+  if (conditions_.hasWalls()) saveWallStates(state);
   if (opt_.fixedParticles) {
     // The grid's own v and a (owned nodes) with their global ids: per rank.
     auto k = gridKinematics_->getLocalViewHost(Tpetra::Access::ReadOnly);
@@ -49,7 +53,10 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
   const auto ranks = state.find("implicit ranks"), P = state.find("node implicit P");
   if (ranks != state.end() && P != state.end() && int(ranks->second.at(0)) == dist_.comm()->getSize())
     restoredP_ = P->second;
+  const auto resolves = state.find("implicit re-solves");
+  if (resolves != state.end() && !resolves->second.empty()) resolves_ = long(resolves->second[0]);
   if (fields_ > 1) restoreContactStates(state);
+  if (conditions_.hasWalls()) restoreWallStates(state);
   if (opt_.fixedParticles) {
     const auto& gids = state.at("node implicit grid kinematics gids");
     const auto& values = state.at("node implicit grid kinematics");
@@ -64,11 +71,10 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
 }
 
 // Multi-field contact: the active set (each owned node's state and slip directions, with its
-// global id: per rank) and the count of repeated solves. A checkpoint without them (or a new
+// global id: per rank). A checkpoint without them (or a new
 // decomposition's node the old rank did not own) starts Free.
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::saveContactStates(NamedArrays& state) const {
-  state["implicit contact re-solves"] = {double(contactResolves_)};
   const ContactActiveSet& set = conditions_.implicitContactSet();
   auto st = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), set.state);
   auto dir = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), set.direction);
@@ -85,8 +91,6 @@ void ImplicitNewmark<Shape, Dim>::saveContactStates(NamedArrays& state) const {
 
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::restoreContactStates(const NamedArrays& state) {
-  const auto resolves = state.find("implicit contact re-solves");
-  if (resolves != state.end() && !resolves->second.empty()) contactResolves_ = long(resolves->second[0]);
   const auto gids = state.find("node implicit contact gids");
   if (gids == state.end()) return;
   const std::vector<double>& states = state.at("node implicit contact states");
@@ -110,6 +114,41 @@ void ImplicitNewmark<Shape, Dim>::restoreContactStates(const NamedArrays& state)
   }
   Kokkos::deep_copy(set.state, st);
   Kokkos::deep_copy(set.direction, dir);
+}
+
+// Walls: the active set (each wall node's hold, stick or slip and slip direction, with its node's
+// global id and its wall: per rank). A checkpoint without it (or a node the old rank did not own)
+// starts from the start motion, as a new wall node does.
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::saveWallStates(NamedArrays& state) const {
+  const ImplicitWallContact& walls = conditions_.implicitWalls();
+  const auto map = dist_.ownedNodeMap();
+  auto& keys = state["node implicit wall keys"];
+  for (const auto& [node, wall] : walls.nodeWalls())
+    keys.insert(keys.end(), {double(map->getGlobalElement(node)), double(wall)});
+  state["node implicit wall states"] = walls.states();
+}
+
+template <class Shape, int Dim>
+void ImplicitNewmark<Shape, Dim>::restoreWallStates(const NamedArrays& state) {
+  const auto keys = state.find("node implicit wall keys");
+  if (keys == state.end()) return;
+  const std::vector<double>& rows = state.at("node implicit wall states");
+  const int width = ImplicitWallContact::kStateWidth;
+  if (rows.size() * 2 != keys->second.size() * width)
+    throw std::runtime_error("checkpoint: the implicit wall states do not match their keys");
+  const ImplicitWallContact& walls = conditions_.implicitWalls();
+  const auto map = dist_.ownedNodeMap();
+  std::map<std::pair<GO, int>, int> index;  // (node gid, wall) -> wall node
+  const auto nodeWalls = walls.nodeWalls();
+  for (size_t k = 0; k < nodeWalls.size(); ++k)
+    index[{map->getGlobalElement(nodeWalls[k].first), nodeWalls[k].second}] = int(k);
+  std::vector<std::pair<int, const double*>> restored;
+  for (size_t i = 0; 2 * i < keys->second.size(); ++i) {
+    const auto found = index.find({GO(keys->second[2 * i]), int(keys->second[2 * i + 1])});
+    if (found != index.end()) restored.push_back({found->second, &rows[i * width]});
+  }
+  walls.restoreStates(restored);
 }
 
 }  // namespace impm

@@ -156,20 +156,13 @@ bool ImplicitNewmark<Shape, Dim>::reviseWallContacts(const Vector& u) {
   int local = 0;
   {
     const auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    const NewmarkConstants k(opt_.newmark, dt_);
-    const auto endVelocity = KOKKOS_LAMBDA(int n, int c) {
-      const double v = s(n, SC::VelX + c), a = s(n, SC::AccX + c);
-      return v + k.velocityChange(a, k.newAcceleration(d(n, DC::UX + c), v, a));
-    };
-    local = walls.template revise<Exec>(d, DC::UX, s, SC::Mass, heldWallReaction(), endVelocity, k.dt, tolerance);
+    local = walls.template revise<Exec>(d, DC::UX, heldWallReaction(), tolerance);
   }
   int changes = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
   if (changes == 0) return false;
   {
     auto st = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    walls.template loadFriction<Exec>(st, SC::FextX);
     walls.template hold<Exec>(st, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, massCutoff_, dt_);
   }
   stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);

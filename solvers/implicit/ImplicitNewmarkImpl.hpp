@@ -278,9 +278,7 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
   conditions_.template write<Exec>(s, SC::AccX, PrescribedField::StartAcceleration, ss);
   conditions_.template write<Exec>(s, SC::FreeX, PrescribedField::Zero, ss);
   if (conditions_.hasWalls()) {
-    const ImplicitWallContact& walls = conditions_.implicitWalls();
-    walls.template keepLoads<Exec>(s, SC::FextX);
-    walls.template hold<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt);
+    conditions_.implicitWalls().template hold<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt);
   }
 }
 
@@ -330,7 +328,7 @@ StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt)
     const bool again = conditions_.hasWalls() ? solve < ImplicitWallContact::maxSolves() && reviseWallContacts(*u)
                                               : fields_ > 1 && solve < kMaxContactSolves && reviseContactStates(*u);
     if (!again) break;
-    if (fields_ > 1) ++contactResolves_;
+    ++resolves_;
   }
   finishStep(*u);
   statistics_.recordStep(result, std::chrono::duration<double>(clock::now() - t2).count());
@@ -352,7 +350,8 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   statistics_.addHardestStep(s);
   control_.addAdaptive(s);
   statistics_.addCosts(s);
-  if (fields_ > 1) s.set("Contact Re-solves", int(contactResolves_));
+  if (fields_ > 1) s.set("Contact Re-solves", int(resolves_));
+  if (conditions_.hasWalls()) s.set("Wall Re-solves", int(resolves_));
   s.set("Configuration", implicit::describeSolver(solver_->parameters()));
 }
 

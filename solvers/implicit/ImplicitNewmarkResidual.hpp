@@ -72,6 +72,12 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   forceOwned_->putScalar(0.0);
   forceOwned_->doExport(*forceGhosted_, *dist_.importer(), Tpetra::ADD);
   if (fields_ > 1) addContactForces();
+  if (conditions_.hasWalls()) {  // the friction of the slipping wall nodes, at these forces
+    using SC = implicit::StateColumns<Dim>;
+    conditions_.implicitWalls().template addFriction<Exec>(
+        stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly), SC::Mass, SC::VelX, SC::FextX, SC::FreeX,
+        forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite), FC::ForceX, dt_, opt_.newmark.gamma);
+  }
   const auto atNode = newmarkResidualAtNode<Dim>(stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
                                                  forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
                                                  NewmarkConstants(opt_.newmark, dt_), opt_.consistentMass);
