@@ -92,7 +92,8 @@ GridConditions::GridConditions(const std::vector<ConstraintSpec>& specs, const G
   wallFree_ = toDevice(wallFree, "wall_free_components");
   wallForce_ = Kokkos::View<double**, Kokkos::LayoutRight, DeviceType>("wall_node_force", wallNodes.size(), 3);
   const bool frictional = std::any_of(walls.begin(), walls.end(), [](const WallSpec& w) { return w.friction > 0.0; });
-  implicitWalls_ = ImplicitWallContact(wallNode_, wallOf_, wallFree_, wallParams_, wallForce_, g.dim, frictional);
+  implicitWalls_ = ImplicitWallContact(wallNode_, wallOf_, wallFree_, wallParams_, wallForce_, g.dim, frictional,
+                                       std::max(1, fieldCount()));
 }
 
 void GridConditions::sumWallReactions() {

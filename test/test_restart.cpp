@@ -208,6 +208,20 @@ TEUCHOS_UNIT_TEST(Restart, ImplicitFrictionalWall) {
   checkRestart(deck, "implicit_frictional_wall", 40, 25, out, success);
 }
 
+// Walls and contact together, implicit: the block sliding on the slab that rests on a rough wall
+// (test_implicit_contact, SlabOnARoughWallCarriesTheSlidingBlock), restarted at step 7 of 12: the
+// walls' set per body field and the contact's active set both come back.
+TEUCHOS_UNIT_TEST(Restart, ImplicitContactOnARoughWall) {
+  ParameterList deck = deckOf("block_incline_contact_implicit_gimp.yaml");
+  deck.remove("Constraints");
+  deck.sublist("Walls").sublist("floor").set("Normal", "y+").set("Position", 0.0).set("Friction", 1.0);
+  deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 1).set("Plot", false);
+  ParameterList& s = deck.sublist("Implicit Solver");
+  s.set("Linear Tolerance", 1e-12).set("Residual Tolerance", 1e-13).set("Residual Magnitude Tolerance", 0.0);
+  s.set("Maximum Newton Iterations", 30);
+  checkRestart(deck, "implicit_contact_wall", 12, 7, out, success);
+}
+
 // APIC: each particle's affine velocity C_p is part of the checkpoint (and migrates at np 2); a
 // restart without it would start from C_p = 0 and differ from the first step on.
 TEUCHOS_UNIT_TEST(Restart, ApicCollidingDisks) {

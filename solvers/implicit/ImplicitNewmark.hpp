@@ -221,7 +221,8 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
 
   StepControl control_;
   ImplicitStatistics statistics_;
-  long resolves_ = 0;  // the solves repeated for a changed active set (contact or walls)
+  // The solves repeated for a changed active set: contact, walls (a solve both changed counts in both).
+  long contactResolves_ = 0, wallResolves_ = 0;
 };
 
 }  // namespace impm

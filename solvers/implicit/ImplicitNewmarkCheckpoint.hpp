@@ -24,7 +24,7 @@ void ImplicitNewmark<Shape, Dim>::saveState(NamedArrays& state) const {
   // A Jacobian-free run reuses P (and its preconditioner) for later steps: kept, per rank.
   state["implicit ranks"] = {double(dist_.comm()->getSize())};
   if (jacobianFree() && !assembler_.matrix().is_null()) assembler_.save(state["node implicit P"]);
-  state["implicit re-solves"] = {double(resolves_)};
+  state["implicit re-solves"] = {double(contactResolves_), double(wallResolves_)};
   if (fields_ > 1) saveContactStates(state);
   if (conditions_.hasWalls()) saveWallStates(state);
   if (opt_.fixedParticles) {
@@ -54,7 +54,10 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
   if (ranks != state.end() && P != state.end() && int(ranks->second.at(0)) == dist_.comm()->getSize())
     restoredP_ = P->second;
   const auto resolves = state.find("implicit re-solves");
-  if (resolves != state.end() && !resolves->second.empty()) resolves_ = long(resolves->second[0]);
+  if (resolves != state.end() && resolves->second.size() == 2) {
+    contactResolves_ = long(resolves->second[0]);
+    wallResolves_ = long(resolves->second[1]);
+  }
   if (fields_ > 1) restoreContactStates(state);
   if (conditions_.hasWalls()) restoreWallStates(state);
   if (opt_.fixedParticles) {
@@ -134,10 +137,10 @@ void ImplicitNewmark<Shape, Dim>::restoreWallStates(const NamedArrays& state) {
   const auto keys = state.find("node implicit wall keys");
   if (keys == state.end()) return;
   const std::vector<double>& rows = state.at("node implicit wall states");
-  const int width = ImplicitWallContact::kStateWidth;
+  const ImplicitWallContact& walls = conditions_.implicitWalls();
+  const size_t width = size_t(ImplicitWallContact::kStateWidth) * walls.fieldCount();
   if (rows.size() * 2 != keys->second.size() * width)
     throw std::runtime_error("checkpoint: the implicit wall states do not match their keys");
-  const ImplicitWallContact& walls = conditions_.implicitWalls();
   const auto map = dist_.ownedNodeMap();
   std::map<std::pair<GO, int>, int> index;  // (node gid, wall) -> wall node
   const auto nodeWalls = walls.nodeWalls();

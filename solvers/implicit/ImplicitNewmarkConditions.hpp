@@ -69,8 +69,8 @@ void ImplicitNewmark<Shape, Dim>::addContactForces() {
                                                       coefficient * dt_ * opt_.newmark.gamma);
 }
 
-// The force that stops a held wall component over the step: -m v / dt - F_int - F_ext (the forces
-// at the last residual's point).
+// The force that stops field b's held wall component over the step: -m v / dt - F_int - F_ext
+// (the forces at the last residual's point).
 template <class Shape, int Dim>
 auto ImplicitNewmark<Shape, Dim>::heldWallReaction() const {
   using SC = implicit::StateColumns<Dim>;
@@ -78,8 +78,10 @@ auto ImplicitNewmark<Shape, Dim>::heldWallReaction() const {
   auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   const double dt = dt_;
-  return KOKKOS_LAMBDA(int n, int d) {
-    return -s(n, SC::Mass) * s(n, SC::VelX + d) / dt - f(n, FC::ForceX + d) - s(n, SC::FextX + d);
+  const int ss = stateStride_, fs = forceStride_;
+  return KOKKOS_LAMBDA(int n, int b, int d) {
+    const int o = b * ss;
+    return -s(n, o + SC::Mass) * s(n, o + SC::VelX + d) / dt - f(n, b * fs + FC::ForceX + d) - s(n, o + SC::FextX + d);
   };
 }
 
@@ -156,14 +158,14 @@ bool ImplicitNewmark<Shape, Dim>::reviseWallContacts(const Vector& u) {
   int local = 0;
   {
     const auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    local = walls.template revise<Exec>(d, DC::UX, heldWallReaction(), tolerance);
+    local = walls.template revise<Exec>(d, DC::UX, heldWallReaction(), tolerance, dispStride_);
   }
   int changes = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
   if (changes == 0) return false;
   {
     auto st = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
-    walls.template hold<Exec>(st, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, massCutoff_, dt_);
+    walls.template hold<Exec>(st, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, massCutoff_, dt_, stateStride_);
   }
   stateGhosted_->doImport(*stateOwned_, *dist_.importer(), Tpetra::INSERT);
   PCurrent_ = false;

@@ -124,7 +124,6 @@ void ImplicitNewmark<Shape, Dim>::checkContactUsable() const {
   if (opt_.transfer != ParticleTransfer::FlipPic) refuse("needs 'Integrator/Implicit/Transfer' = FLIP/PIC");
   if (opt_.fbar) refuse("does not take 'Method/Volumetric Locking' = F-bar");
   if (!opt_.equilibriumAcceleration) refuse("needs 'Integrator/Implicit/Grid Acceleration' = Equilibrium");
-  if (conditions_.hasWalls()) refuse("does not take Walls (a wall is a Rigid body in the explicit step)");
   if (conditions_.contact().hasRigid()) refuse("does not take Rigid bodies (they need the explicit integrator)");
 }
 
@@ -278,7 +277,7 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
   conditions_.template write<Exec>(s, SC::AccX, PrescribedField::StartAcceleration, ss);
   conditions_.template write<Exec>(s, SC::FreeX, PrescribedField::Zero, ss);
   if (conditions_.hasWalls()) {
-    conditions_.implicitWalls().template hold<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt);
+    conditions_.implicitWalls().template hold<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt, ss);
   }
 }
 
@@ -301,7 +300,7 @@ template <class Shape, int Dim>
 StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt) {
   using clock = std::chrono::steady_clock;
   auto t0 = clock::now();
-  if (conditions_.hasWalls()) conditions_.implicitWalls().beginStep();
+  if (conditions_.hasWalls()) conditions_.implicitWalls().beginStep();  // (and keeps the set for a retry)
   if (fields_ > 1) conditions_.keepImplicitContactStates(dist_.ownedNodeMap()->getNodeNumElements());
   setUpStep(t, dt);
   // With walls, the solve is repeated until the held wall components settle (at most
@@ -322,13 +321,16 @@ StepControl::Outcome ImplicitNewmark<Shape, Dim>::solveStep(double t, double dt)
                               std::chrono::duration<double>(t2 - t1).count());
     if (!result.converged) {
       if (fields_ > 1) conditions_.restoreImplicitContactStates();
+      if (conditions_.hasWalls()) conditions_.implicitWalls().restore();
       return {false, result.newtonIterations, result.reason};
     }
     t0 = clock::now();
-    const bool again = conditions_.hasWalls() ? solve < ImplicitWallContact::maxSolves() && reviseWallContacts(*u)
-                                              : fields_ > 1 && solve < kMaxContactSolves && reviseContactStates(*u);
-    if (!again) break;
-    ++resolves_;
+    const bool contactChanged = fields_ > 1 && solve < kMaxContactSolves && reviseContactStates(*u);
+    const bool wallsChanged =
+        conditions_.hasWalls() && solve < ImplicitWallContact::maxSolves() && reviseWallContacts(*u);
+    if (!contactChanged && !wallsChanged) break;
+    contactResolves_ += contactChanged;
+    wallResolves_ += wallsChanged;
   }
   finishStep(*u);
   statistics_.recordStep(result, std::chrono::duration<double>(clock::now() - t2).count());
@@ -350,8 +352,8 @@ void ImplicitNewmark<Shape, Dim>::addStatistics(Teuchos::ParameterList& summary)
   statistics_.addHardestStep(s);
   control_.addAdaptive(s);
   statistics_.addCosts(s);
-  if (fields_ > 1) s.set("Contact Re-solves", int(resolves_));
-  if (conditions_.hasWalls()) s.set("Wall Re-solves", int(resolves_));
+  if (fields_ > 1) s.set("Contact Re-solves", int(contactResolves_));
+  if (conditions_.hasWalls()) s.set("Wall Re-solves", int(wallResolves_));
   s.set("Configuration", implicit::describeSolver(solver_->parameters()));
 }
 

@@ -76,7 +76,8 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
     using SC = implicit::StateColumns<Dim>;
     conditions_.implicitWalls().template addFriction<Exec>(
         stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly), SC::Mass, SC::VelX, SC::FextX, SC::FreeX,
-        forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite), FC::ForceX, dt_, opt_.newmark.gamma);
+        forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite), FC::ForceX, dt_, opt_.newmark.gamma, stateStride_,
+        forceStride_);
   }
   const auto atNode = newmarkResidualAtNode<Dim>(stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
                                                  forceOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),

@@ -51,7 +51,8 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
         });
     conditions_.template write<Exec>(d, DC::AnewX, PrescribedField::Acceleration, ds);
     conditions_.template write<Exec>(d, DC::DvX, PrescribedField::VelocityChange, ds);
-    if (conditions_.hasWalls()) conditions_.implicitWalls().template stop<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt);
+    if (conditions_.hasWalls())
+      conditions_.implicitWalls().template stop<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt, ds, ss);
   }
   if (!opt_.fixedParticles) return;
   auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
