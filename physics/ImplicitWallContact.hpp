@@ -158,15 +158,15 @@ class ImplicitWallContact {
   }
 
   // In the residual: each slipping node's friction -mu N s added to its free tangential components
-  // of the owned forces f (forceCol..; field f's at f * forceStride further), N = side (-m v / dt -
-  // F_int - F_ext) along the wall's axis at these forces (the held normal's reaction; the grid state
-  // s holds m, v, F_ext and the free flags). The normal's stop gives the impulse N dt; the
+  // of the owned forces f (forceCol..; field f's at f * forceStride further), N the held normal's
+  // reaction at these forces, side reactionAt(n, f, axis) (the grid state s holds the free flags,
+  // field f's at f * stateStride further). The normal's stop gives the impulse N dt; the
   // trapezoidal velocity update gives gamma of the end force (the start acceleration comes from the
   // body's forces alone), so the residual takes the friction over gamma for its impulse to be
   // mu N dt. Kept per entry for record().
-  template <class ExecSpace, class StateView, class ForceView>
-  void addFriction(const StateView& s, int massCol, int velCol, int fextCol, int freeCol, const ForceView& f,
-                   int forceCol, double dt, double gamma, int stateStride = 0, int forceStride = 0) const {
+  template <class ExecSpace, class ReactionAt, class StateView, class ForceView>
+  void addFriction(const ReactionAt& reactionAt, const StateView& s, int freeCol, const ForceView& f, int forceCol,
+                   double gamma, int stateStride = 0, int forceStride = 0) const {
     if (!frictional_) return;
     auto node = node_;
     auto wall = wall_;
@@ -182,13 +182,10 @@ class ImplicitWallContact {
     // The normal forces first: at a corner one wall's tangent is the other's normal.
     Kokkos::parallel_for(
         "implicit_wall_normal_force", entries, KOKKOS_LAMBDA(int e) {
-          const int k = e / fields, o = e % fields * stateStride, q = e % fields * forceStride;
-          const int n = node(k), axis = (int)params(wall(k), 0);
-          const double side = params(wall(k), 1);
+          const int k = e / fields, axis = (int)params(wall(k), 0);
           const bool slips = held(e) && tangent(e) == kSlip && params(wall(k), 2) > 0.0;
-          const double N = side * (-s(n, o + massCol) * s(n, o + velCol + axis) / dt - f(n, q + forceCol + axis) -
-                                   s(n, o + fextCol + axis));
-          normal(e) = slips && N > 0.0 ? N : 0.0;
+          const double N = slips ? params(wall(k), 1) * reactionAt(node(k), e % fields, axis) : 0.0;
+          normal(e) = N > 0.0 ? N : 0.0;
         });
     Kokkos::parallel_for(
         "implicit_wall_friction", entries, KOKKOS_LAMBDA(int e) {

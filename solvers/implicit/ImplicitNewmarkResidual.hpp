@@ -74,9 +74,10 @@ void ImplicitNewmark<Shape, Dim>::residual(const Vector& u, Vector& R) {
   if (fields_ > 1) addContactForces();
   if (conditions_.hasWalls()) {  // the friction of the slipping wall nodes, at these forces
     using SC = implicit::StateColumns<Dim>;
+    const auto normalReaction = heldWallReaction();  // read before the friction is added
     conditions_.implicitWalls().template addFriction<Exec>(
-        stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly), SC::Mass, SC::VelX, SC::FextX, SC::FreeX,
-        forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite), FC::ForceX, dt_, opt_.newmark.gamma, stateStride_,
+        normalReaction, stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly), SC::FreeX,
+        forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite), FC::ForceX, opt_.newmark.gamma, stateStride_,
         forceStride_);
   }
   const auto atNode = newmarkResidualAtNode<Dim>(stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
