@@ -161,38 +161,47 @@ class GridConditions {
   }
 
   // Implicit hook, at every residual with several fields: the contact between the bodies as a
-  // penalty. endVelocity(n, f, c) is field f's trial end velocity at owned node n (component c);
-  // the contact law, with the active set's states frozen (ContactActiveSet), turns the fields'
-  // trial velocities v_new into v*, and field f's force columns (forceCol.., forceStride apart) get
-  // coefficient m (v* - v_new). The pair forces of this call, times pairForceFactor, are what
-  // recordImplicitContactForces records.
+  // penalty, augmented by the force carried from the last step (carryImplicitContactForces; zero
+  // where no rigid body is). endVelocity(n, f, c) is field f's
+  // trial end velocity at owned node n (component c). Each field's velocity is shifted by its
+  // carried force over its penalty stiffness, v_s = v_new - lambda / (coefficient m); the contact
+  // law, with the active set's states frozen (ContactActiveSet), turns the shifted velocities into
+  // v*, and field f's force columns (forceCol.., forceStride apart) get
+  // F = coefficient m (v* - v_s) = lambda + coefficient m (v* - v_new): the augmented Lagrangian
+  // force, max(0, lambda_n + kappa g) along the normal and Coulomb's cone about it. The pair forces
+  // of this call, times pairForceFactor, are what recordImplicitContactForces records.
   template <class ExecSpace, class StateView, class EndVelocity, class ForceView>
   void addImplicitContactForces(const StateView& s, int massCol, int gradCol, int stateStride,
                                 const EndVelocity& endVelocity, const ForceView& f, int forceCol, int forceStride,
                                 double coefficient, double pairForceFactor) {
     const int fields = fieldCount(), dim = dim_;
-    trialContactVelocities<ExecSpace>(s, endVelocity);
+    trialContactVelocities<ExecSpace>(s, massCol, stateStride, endVelocity, coefficient);
     auto vel = lawVelocity_;
     auto before = trialVelocity_;
     contactSet_.mode = ContactActiveSet::Mode::Frozen;
     contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, vel, 0, -1, dim, dim, dt_, true, &implicitPairForce_,
                                  &contactSet_);
+    auto penalty = penaltyForce_;
     Kokkos::parallel_for(
         "contact_penalty_force", Kokkos::RangePolicy<ExecSpace>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
           for (int b = 0; b < fields; ++b) {
             const double m = s(n, b * stateStride + massCol);
-            for (int c = 0; c < dim; ++c)
-              f(n, b * forceStride + forceCol + c) += coefficient * m * (vel(n, b * dim + c) - before(n, b * dim + c));
+            for (int c = 0; c < dim; ++c) {
+              const double force = coefficient * m * (vel(n, b * dim + c) - before(n, b * dim + c));
+              penalty(n, b * dim + c) = force;
+              f(n, b * forceStride + forceCol + c) += force;
+            }
           }
         });
     for (double& value : implicitPairForce_) value *= pairForceFactor;
   }
   // After a converged solve: each contact node's state decided anew from the trial end
-  // velocities (ContactActiveSet, Classify); returns this rank's count of changed nodes.
+  // velocities, shifted as in addImplicitContactForces (ContactActiveSet, Classify); returns this
+  // rank's count of changed nodes.
   template <class ExecSpace, class StateView, class EndVelocity>
   int classifyImplicitContact(const StateView& s, int massCol, int gradCol, int stateStride,
-                              const EndVelocity& endVelocity) {
-    trialContactVelocities<ExecSpace>(s, endVelocity);
+                              const EndVelocity& endVelocity, double coefficient) {
+    trialContactVelocities<ExecSpace>(s, massCol, stateStride, endVelocity, coefficient);
     contactSet_.mode = ContactActiveSet::Mode::Classify;
     return contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, lawVelocity_, 0, -1, dim_, dim_, dt_, true,
                                         nullptr, &contactSet_);
@@ -204,10 +213,12 @@ class GridConditions {
     keptContactSet_.fit(ownedNodes, fieldCount());
     Kokkos::deep_copy(keptContactSet_.state, contactSet_.state);
     Kokkos::deep_copy(keptContactSet_.direction, contactSet_.direction);
+    Kokkos::deep_copy(keptContactSet_.force, contactSet_.force);
   }
   void restoreImplicitContactStates() {
     Kokkos::deep_copy(contactSet_.state, keptContactSet_.state);
     Kokkos::deep_copy(contactSet_.direction, keptContactSet_.direction);
+    Kokkos::deep_copy(contactSet_.force, keptContactSet_.force);
   }
   ContactActiveSet& implicitContactSet() { return contactSet_; }
   const ContactActiveSet& implicitContactSet() const { return contactSet_; }
@@ -215,6 +226,26 @@ class GridConditions {
   // addImplicitContactForces: the converged step's, when called after the solve.
   void recordImplicitContactForces() {
     std::copy(implicitPairForce_.begin(), implicitPairForce_.end(), localReaction_.end() - implicitPairForce_.size());
+  }
+  // After a converged step: the contact forces at the nodes a rigid body reaches become the
+  // multipliers of the next step (the augmented Lagrangian of addImplicitContactForces), so that a
+  // body pressed by a rigid one holds its load without the penalty's creep. Between deformable
+  // bodies the multiplier made a soft block ring on its slab (its normal force swinging from 0.1 to
+  // 2 times its weight) and slide too far near the stick threshold: those keep the plain penalty.
+  template <class ExecSpace, class StateView>
+  void carryImplicitContactForces(const StateView& s, int massCol, int stateStride) {
+    if (!contact_.hasRigid() || penaltyForce_.extent(0) != contactSet_.force.extent(0)) return;
+    const int fields = fieldCount(), dim = dim_;
+    auto penalty = penaltyForce_;
+    auto carried = contactSet_.force;
+    auto rigid = contact_.rigidFields();
+    Kokkos::parallel_for(
+        "contact_carry_force", Kokkos::RangePolicy<ExecSpace>(0, carried.extent(0)), KOKKOS_LAMBDA(int n) {
+          bool rigidHere = false;
+          for (int b = 0; b < fields; ++b) rigidHere = rigidHere || (rigid(b) && s(n, b * stateStride + massCol) > 0.0);
+          for (int b = 0; b < fields; ++b)
+            for (int c = 0; c < dim; ++c) carried(n, 3 * b + c) = rigidHere ? penalty(n, b * dim + c) : 0.0;
+        });
   }
   // The contact law (its checks; the implicit step's line-search default).
   const MultiFieldContact& contact() const { return contact_; }
@@ -317,27 +348,36 @@ class GridConditions {
   MultiFieldContact contact_;
   // The implicit contact's trial end velocities, the law's answer to them, its pair forces, and
   // its active set (with the copy a step attempt started from).
-  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> trialVelocity_, lawVelocity_;
+  // (penaltyForce_: each field's contact force at the last residual, owned node x field x component.)
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> trialVelocity_, lawVelocity_, penaltyForce_;
   std::vector<double> implicitPairForce_;
   ContactActiveSet contactSet_, keptContactSet_;
-  // Fills trialVelocity_ and lawVelocity_ (owned node x field x component) with endVelocity.
+  // Fills trialVelocity_ and lawVelocity_ (owned node x field x component) with endVelocity,
+  // shifted by the carried force over the penalty stiffness coefficient m of the field.
   template <class ExecSpace, class StateView, class EndVelocity>
-  void trialContactVelocities(const StateView& s, const EndVelocity& endVelocity) {
+  void trialContactVelocities(const StateView& s, int massCol, int stateStride, const EndVelocity& endVelocity,
+                              double coefficient) {
     const int fields = fieldCount(), dim = dim_;
     if (trialVelocity_.extent(0) != s.extent(0) || trialVelocity_.extent(1) != size_t(fields * dim)) {
       trialVelocity_ = decltype(trialVelocity_)("contact_trial_velocity", s.extent(0), fields * dim);
       lawVelocity_ = decltype(trialVelocity_)("contact_law_velocity", s.extent(0), fields * dim);
+      penaltyForce_ = decltype(trialVelocity_)("contact_penalty_force", s.extent(0), fields * dim);
     }
+    contactSet_.fit(s.extent(0), fields);
     auto vel = lawVelocity_;
     auto before = trialVelocity_;
+    auto carried = contactSet_.force;
     Kokkos::parallel_for(
         "contact_trial_velocity", Kokkos::RangePolicy<ExecSpace>(0, vel.extent(0)), KOKKOS_LAMBDA(int n) {
-          for (int b = 0; b < fields; ++b)
+          for (int b = 0; b < fields; ++b) {
+            const double stiffness = coefficient * s(n, b * stateStride + massCol);
             for (int c = 0; c < dim; ++c) {
-              const double vNew = endVelocity(n, b, c);
+              const double lambda = carried(n, 3 * b + c);
+              const double vNew = endVelocity(n, b, c) - (lambda != 0.0 && stiffness > 0.0 ? lambda / stiffness : 0.0);
               vel(n, b * dim + c) = vNew;
               before(n, b * dim + c) = vNew;
             }
+          }
         });
   }
   int sumsStride_ = 0, kinStride_ = 0;

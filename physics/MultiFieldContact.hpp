@@ -109,13 +109,17 @@ struct ContactActiveSet {
   enum class Mode { Law, Frozen, Classify };
   Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> state;         // owned node x field
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> direction;  // owned node x (3 per field)
+  // Owned node x (3 per field): the contact force on each field at the end of the last converged
+  // step, carried into the next as the augmented Lagrangian's multiplier (GridConditions).
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> force;
   Mode mode = Mode::Law;
   // Whether the set holds the nodes of a grid of `nodes` owned nodes and `fields` fields; else
-  // (the first step, a new decomposition) it starts afresh with every node Free.
+  // (the first step, a new decomposition) it starts afresh with every node Free and no force.
   void fit(size_t nodes, int fields) {
     if (state.extent(0) == nodes && state.extent(1) == size_t(fields)) return;
     state = decltype(state)("contact_active_set", nodes, fields);
     direction = decltype(direction)("contact_slip_direction", nodes, 3 * fields);
+    force = decltype(force)("contact_carried_force", nodes, 3 * fields);
   }
 };
 
@@ -134,6 +138,10 @@ class MultiFieldContact {
   // Each body's field (the identity: one field per body).
   Kokkos::View<const int*, DeviceType> fieldOfBody() const { return fieldOfBody_; }
   bool hasRigid() const { return hasRigid_; }
+  // Per field: 1 if rigid; and each field's prescribed velocity V(t) (columns 0-2) and V(t + dt)
+  // (3-5) for the step setStep was last given (zero for a field that is not rigid).
+  Kokkos::View<const int*, DeviceType> rigidFields() const { return rigid_; }
+  Kokkos::View<const double**, Kokkos::LayoutRight, DeviceType> rigidMotion() const { return rigidMotion_; }
   // The rigid bodies' velocities at the start and the end of the step [t, t + dt] (host; cheap).
   void setStep(double t, double dt);
 

@@ -252,11 +252,6 @@ TEUCHOS_UNIT_TEST(ImplicitContact, RefusesWhatTheImplicitStepDoesNotTake) {
        [](ParameterList& d) { d.sublist("Integrator").sublist("Implicit").set("Grid Acceleration", "Projected"); }},
       {"apic", "Contact/Type", "Transfer",
        [](ParameterList& d) { d.sublist("Integrator").sublist("Implicit").set("Transfer", "APIC"); }},
-      {"rigid", "Contact/Type", "Rigid bodies",
-       [](ParameterList& d) {
-         d.sublist("Bodies").sublist("slab").set("Rigid", true);
-         d.remove("Constraints");
-       }},
   };
   impm_test::checkRefusals(quietAppDeck("block_incline_contact_implicit_gimp.yaml"), cases,
                            "test_output/implicit_contact_bad", out, success);

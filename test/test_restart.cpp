@@ -222,6 +222,21 @@ TEUCHOS_UNIT_TEST(Restart, ImplicitContactOnARoughWall) {
   checkRestart(deck, "implicit_contact_wall", 12, 7, out, success);
 }
 
+// Rigid bodies, implicit: the press of test_rigid_bodies (ImplicitPlatenCompressesBlock) restarted
+// at step 20 of 30, the platen moving: the contact force carried from step to step at the rigid
+// bodies' nodes comes back from the checkpoint with the active set. The solver keeps its default
+// tolerances: with the tight ones of the tests above, Newton at np 2 stalls near 1e-10 of its first
+// residual where the block's contact with a rigid body begins (P leaves the contact penalty out and
+// the ranks' blocks of RILUK are weaker), a step is halved that np 1 solves whole, and the runs part
+// at 1e-3.
+TEUCHOS_UNIT_TEST(Restart, ImplicitRigidPlaten) {
+  ParameterList deck = deckOf("platen_compression_rigid_explicit_gimp.yaml");
+  deck.sublist("Integrator").remove("Explicit");
+  deck.sublist("Integrator").set("Type", "Implicit").set("Time Step", 1e-2);
+  deck.sublist("Output").set("VTK Interval", 0).set("History Interval", 1).set("Plot", false);
+  checkRestart(deck, "implicit_rigid_platen", 30, 20, out, success);
+}
+
 // APIC: each particle's affine velocity C_p is part of the checkpoint (and migrates at np 2); a
 // restart without it would start from C_p = 0 and differ from the first step on.
 TEUCHOS_UNIT_TEST(Restart, ApicCollidingDisks) {

@@ -43,6 +43,8 @@ TRAVEL_TOL = 0.03          # sliding blocks: travel within 3% (the issue's targe
 HOLD_TOL = 1e-3            # a held block: travel below 0.1% of the frictionless travel
 ROLL_TOL = 0.08            # rolling disk: travel and spin within 8% (the contact zone a cell wide resists rolling)
 SLIP_TRAVEL_TOL = 0.05     # slipping disk: travel within 5%
+DISK_REFINEMENTS = (1, 2, 4)  # the disk at 8, 16 and 32 cells per radius
+DISK_FINE_TOL = 0.05       # at 32 cells per radius: travel and spin within 5% (the target), rolling and slipping
 DISKS_LOSS_MAX = 0.25      # colliding disks: energy lost below 25% at h ...
 DISKS_LOSS_RATIO = 0.5     # ... and at h / 2 below half of that
 DISKS_IMPLICIT_LOSS_MAX = 0.20  # implicit disks at h: energy lost below 20% (test_implicit_contact)
@@ -97,15 +99,26 @@ def plan(repo, reduced):
         ("implicit, rough rigid wall (Walls), mu = 0.3", 0.3, INCLINE_IMPLICIT_DECK, on_wall(0.3), "block travel"),
         ("implicit, rough rigid wall (Walls), mu = 0.7 (gravity ramped over 0.05 s)", 0.7, INCLINE_IMPLICIT_DECK,
          dict(ramp, **on_wall(0.7)), "block travel"),
+        ("implicit (2.5 ms steps), rigid plane tilted across the grid, mu = 0.3", 0.3, TILTED_DECK,
+         {"Integrator/Explicit": decks.DELETE, "Integrator/Type": "Implicit", "Integrator/Time Step": 2.5e-3,
+          "Integrator/Number of Steps": 100, "Output/History Interval": 4}, "tilted"),
     ]
     for i, (text, mu, deck, ov, how) in enumerate(incline):
         name = f"contact_incline_{i}_{'tilted' if deck == TILTED_DECK else 'wall' if 'Walls' in str(ov) else 'slab'}_mu{mu:g}"
-        method = "implicit GIMP" if deck == INCLINE_IMPLICIT_DECK else "explicit GIMP"
+        implicit = deck == INCLINE_IMPLICIT_DECK or ov.get("Integrator/Type") == "Implicit"
+        method = "implicit GIMP" if implicit else "explicit GIMP"
         p["incline"].append({"text": text, "mu": mu, "how": how, "case": _case(repo, name, deck, ov, method)})
-    for mu in (0.5, 0.1):
-        name = f"contact_disk_incline_mu{mu:g}"
-        p["disk"].append({"mu": mu, "case": _case(repo, name, DISK_DECK, {"Contact/Friction": mu}, "explicit GIMP",
-                                                   vtk=True)})
+    for refine in DISK_REFINEMENTS:
+        for mu in (0.5, 0.1):
+            name = f"contact_disk_incline_mu{mu:g}" + (f"_h{refine}" if refine > 1 else "")
+            ov = {"Contact/Friction": mu}
+            if refine > 1:
+                ov.update({"Grid/Cells X": 100 * refine, "Grid/Cells Y": 22 * refine,
+                           "Grid/Cell Size X": 2.5e-3 / refine, "Grid/Cell Size Y": 2.5e-3 / refine,
+                           "Integrator/Time Step": 2.5e-5 / refine, "Integrator/Number of Steps": 8000 * refine,
+                           "Output/History Interval": 200 * refine})
+            p["disk"].append({"mu": mu, "refine": refine,
+                              "case": _case(repo, name, DISK_DECK, ov, "explicit GIMP", vtk=True)})
     for refine in (1, 2):
         ov = {"Grid/Cells X": 20 * refine, "Grid/Cells Y": 20 * refine, "Grid/Cell Size X": 0.05 / refine,
               "Grid/Cell Size Y": 0.05 / refine, "Integrator/Time Step": 1e-3 / refine,
@@ -297,13 +310,19 @@ def evaluate(res):
                              _fin(r["travel"]) and abs(r["travel"]) < HOLD_TOL * free,
                              f"{r['travel']:.3g} m against {free:.4g} m frictionless"))
     for r in res["disk"]:
-        name = f"Contact, disk on the incline, mu = {r['mu']:g}"
+        name = f"Contact, disk on the incline, {8 * r['refine']} cells per radius, mu = {r['mu']:g}"
         if not r["run"].ok:
             out.append(failed_run(name, r["run"]))
             continue
         te, se = _rel(r["travel"], r["travel_exact"]), _rel(r["spin"], r["spin_exact"])
         detail = (f"travel {r['travel']:.4g} m against {r['travel_exact']:.4g} m ({100 * te:+.1f}%), spin "
                   f"{r['spin']:.4g} rad/s against {r['spin_exact']:.4g} rad/s ({100 * se:+.1f}%)")
+        if r["refine"] == max(DISK_REFINEMENTS):
+            out.append(Check(name + f" ({'rolls' if r['rolls'] else 'slips'}): travel and spin within 5%",
+                             _fin(te, se) and abs(te) < DISK_FINE_TOL and abs(se) < DISK_FINE_TOL, detail))
+            continue
+        if r["refine"] > 1:
+            continue  # the middle resolution enters the convergence check below
         if r["rolls"]:
             out.append(Check(name + " (rolls): travel and spin within 8%",
                              _fin(te, se) and abs(te) < ROLL_TOL and abs(se) < ROLL_TOL, detail))
@@ -311,6 +330,12 @@ def evaluate(res):
             out.append(Check(name + " (slips): travel within 5%, spin between half and all of the closed form",
                              _fin(te, se) and abs(te) < SLIP_TRAVEL_TOL and 0.5 < r["spin"] / r["spin_exact"] < 1.0,
                              detail))
+    slips = sorted((r for r in res["disk"] if not r.get("rolls", True) and r["run"].ok), key=lambda r: r["refine"])
+    if len(slips) == len(DISK_REFINEMENTS):
+        deficits = [1 - r["spin"] / r["spin_exact"] for r in slips]
+        out.append(Check("Contact, slipping disk on the incline: the spin's deficit falls at each refinement "
+                         "(8, 16, 32 cells per radius)", all(b < a for a, b in zip(deficits, deficits[1:])),
+                         ", ".join(f"{100 * d:.1f}%" for d in deficits)))
     d = res["disks"]
     if d:
         ok = all(r["run"].ok for r in d)
@@ -461,28 +486,33 @@ def markdown(res, rel_img):
                rows).splitlines()
     L += ["", f"![block travel against the closed form]({rel_img}/contact_incline.png)", ""]
     if res["disk"]:
-        L += [f"A disk (R = 20 mm, 8 cells per radius) on the slab (`{DISK_DECK}`, `Contact Distance: 0.8`), at "
-              "t = 0.2 s. Rolling (mu >= tan 30 / 3 = 0.19): a = 2/3 g sin 30, spin a t / R; slipping: "
-              "a = g (sin 30 - mu cos 30), spin 2 mu g cos 30 t / R (clockwise: negative). Measured from the last "
-              "particle file: the centroid of the disk's particles and their angular momentum about it over their "
-              "moment of inertia.", ""]
+        L += [f"A disk (R = 20 mm) on the slab (`{DISK_DECK}`, `Contact Distance: 0.8`) at 8, 16 and 32 cells per "
+              "radius (the time step with the cell), at t = 0.2 s. Rolling (mu >= tan 30 / 3 = 0.19): "
+              "a = 2/3 g sin 30, spin a t / R; slipping: a = g (sin 30 - mu cos 30), spin 2 mu g cos 30 t / R "
+              "(clockwise: negative). Measured from the last particle file: the centroid of the disk's particles and "
+              "their angular momentum about it over their moment of inertia.", ""]
         rows = []
-        for r in res["disk"]:
+        for r in sorted(res["disk"], key=lambda r: (-r["mu"], r["refine"])):
+            label = f"mu = {r['mu']:g}, {8 * r['refine']} cells per radius"
             if not r["run"].ok:
-                rows.append([f"mu = {r['mu']:g}", "failed", "", "", "", ""])
+                rows.append([label, "failed", "", "", "", ""])
                 continue
-            rows.append([f"mu = {r['mu']:g} ({'rolls' if r['rolls'] else 'slips'})",
+            rows.append([f"{label} ({'rolls' if r['rolls'] else 'slips'})",
                          f"{1e3 * r['travel']:.3f} ({1e3 * r['travel_exact']:.3f})",
                          _pct(_rel(r["travel"], r["travel_exact"])), f"{r['spin']:.3f} ({r['spin_exact']:.3f})",
                          _pct(_rel(r["spin"], r["spin_exact"])), f"{r['run'].wall:.1f}"])
         L += table(["disk", "centroid travel (closed form) (mm)", "error", "spin (closed form) (rad/s)", "error",
                     "wall (s)"], rows).splitlines()
-        L += ["", "The rolling disk falls short of both closed forms: contact acts over a zone about a cell wide around "
-              "the contact point, which resists rolling (the deficit falls with the cell size: the centre particle "
-              "4% short at 8 cells per radius, 0.3% at 16, test_contact). The slipping disk travels as it should but "
-              "spins short: its friction is spread over nodes whose normals tilt around the contact point, so part of "
-              "it acts along the normal. The check holds the slipping spin only between half and all of the closed "
-              "form; this is an open defect.", ""]
+        L += ["", "Both closed forms are met at 32 cells per radius. The coarse slipping disk spins short: the "
+              "node-based contact carries the disk's weight at the grid nodes next to the contact point where the "
+              "disk approaches the slab, the ones just ahead of it as the disk turns, so the normal force acts a "
+              "fraction e of a cell ahead of the contact point. That is a torque N e against the spin, e / (mu R) "
+              "of the friction's (31% for e = h / 4 at 8 cells per radius), and it halves with the cell, as the rows "
+              "show. The same torque costs the rolling disk e / (R tan 30) of its acceleration (5% at 8 cells per "
+              "radius). The rolling disk's spin converges more slowly than its travel: fitted over the particle "
+              "files of the run it is 9% short at 8 and at 16 cells per radius and 3% at 32, and its value at one "
+              "instant swings by a few percent with the soft disk's vibration. Why it stalls between 8 and 16 cells "
+              "is not known.", ""]
     if res["disks"]:
         L += [f"Sulsky's two elastic disks (`{DISKS_DECK}`; radius 0.2 m, E = 1000 Pa, +-(0.1, 0.1) m/s) with "
               "frictionless multi-field contact, at h = 0.05 m (20 x 20 cells) and h / 2 (dt halved). Without contact "

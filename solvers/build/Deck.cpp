@@ -113,9 +113,9 @@ RCP<const ParameterList> validParameters() {
       .disableRecursiveValidation();
   v.sublist("Constraints", false, "named sublists, each a displacement constraint (see --print-defaults)")
       .disableRecursiveValidation();
-  v.sublist(
-       "Walls", false,
-       "named sublists, each a rigid wall the bodies meet (explicit; implicit: frictionless; see --print-defaults)")
+  v.sublist("Walls", false,
+            "named sublists, each a rigid wall the bodies meet, with Coulomb friction (explicit and implicit; see "
+            "--print-defaults)")
       .disableRecursiveValidation();
   addContactSchema(v);
   v.sublist("Loads", false, "named sublists, each an external load").disableRecursiveValidation();

@@ -9,6 +9,7 @@
 #include "core/ShapeRegistry.hpp"
 #include "solvers/build/Sections.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "physics/InitialConditions.hpp"
@@ -292,6 +293,8 @@ ImplicitOptions Simulation::readImplicitOptions(bool fe) const {
   iopt.fixedParticles = fe;
   iopt.fbar = fbar_;
   iopt.contactPenalty = deck_.sublist("Contact").get<double>("Implicit Penalty");
+  for (const BodySpec& body : bodies_)  // a rigid body's material gives it mass only
+    if (!body.rigid) iopt.contactWaveSpeed = std::max(iopt.contactWaveSpeed, materials_.pWaveSpeed(body.material));
   readImplicitTransfer(iopt, im);
   iopt.newmark.beta = im.get<double>("Newmark Beta");
   iopt.newmark.gamma = im.get<double>("Newmark Gamma");

@@ -38,6 +38,20 @@
 
 namespace impm {
 
+// Rigid bodies (physics/MultiFieldContact.hpp): a rigid body's field is no unknown of the step. At
+// each node where it has mass it starts at V(t) with the acceleration A = (V(t + dt) - V(t)) / dt
+// and moves by dt (V(t) + V(t + dt)) / 2, whose Newmark update (any beta and gamma) is a_new = A
+// and the end velocity V(t + dt): its particles, taking the grid's increments, move rigidly. The
+// other bodies meet it through the contact penalty, where the law takes it as infinitely heavy.
+struct RigidFieldMotion {
+  Kokkos::View<const double**, Kokkos::LayoutRight, DeviceType> motion;  // per field: V(t), V(t + dt)
+  double dt;
+  KOKKOS_INLINE_FUNCTION double start(int f, int c) const { return motion(f, c); }
+  KOKKOS_INLINE_FUNCTION double change(int f, int c) const { return motion(f, 3 + c) - motion(f, c); }
+  KOKKOS_INLINE_FUNCTION double acceleration(int f, int c) const { return change(f, c) / dt; }
+  KOKKOS_INLINE_FUNCTION double increment(int f, int c) const { return 0.5 * dt * (motion(f, c) + motion(f, 3 + c)); }
+};
+
 struct ImplicitOptions {
   NewmarkScheme newmark;
   // Nodes lighter than this fraction of the heaviest particle are void (not unknowns), so that the
@@ -101,6 +115,9 @@ struct ImplicitOptions {
   // Multi-field contact (physics/MultiFieldContact.hpp): the penalty factor alpha of the contact
   // force in the residual (see ImplicitNewmark::addContactForces).
   double contactPenalty = 30.0;
+  // The P-wave speed in the penalty's stiffness: the fastest of the deformable bodies' materials
+  // (a rigid body's material gives it mass only); 0: the fastest material of the table.
+  double contactWaveSpeed = 0.0;
   Teuchos::RCP<Teuchos::ParameterList> solverParams;  // the deck's "Implicit Solver" sublist
 };
 
@@ -170,6 +187,11 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   // at the trial displacement in the residual.
   void checkContactUsable() const;
   void addContactForces();
+  double contactPenaltyCoefficient() const;
+  // Rigid bodies: body(n, f, c, motion) at each owned node n where rigid field f has mass, per
+  // component c; `mass` the owned grid state (RigidFieldMotion).
+  template <class StateView, class Body>
+  void forEachRigidDof(const StateView& mass, const Body& body) const;
   auto trialEndVelocity() const;  // field b's trial end velocity at owned node n, component c
   // Runs f(columns) with each particle's field in grid views whose fields are `stride` columns
   // apart: SingleField with one field (the kernels' columns stay compile-time constants), or

@@ -73,22 +73,25 @@ void ImplicitNewmark<Shape, Dim>::restoreState(const NamedArrays& state) {
   }
 }
 
-// Multi-field contact: the active set (each owned node's state and slip directions, with its
-// global id: per rank). A checkpoint without them (or a new
-// decomposition's node the old rank did not own) starts Free.
+// Multi-field contact: the active set (each owned node's state, slip directions and carried
+// force, with its global id: per rank). A checkpoint without them (or a new decomposition's node
+// the old rank did not own) starts Free with no force.
 template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::saveContactStates(NamedArrays& state) const {
   const ContactActiveSet& set = conditions_.implicitContactSet();
   auto st = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), set.state);
   auto dir = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), set.direction);
+  auto force = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), set.force);
   const auto map = dist_.ownedNodeMap();
   auto& gids = state["node implicit contact gids"];
   auto& states = state["node implicit contact states"];
   auto& directions = state["node implicit contact directions"];
+  auto& forces = state["node implicit contact forces"];
   for (size_t n = 0; n < st.extent(0); ++n) {
     gids.push_back(double(map->getGlobalElement((LO)n)));
     for (size_t f = 0; f < st.extent(1); ++f) states.push_back(st(n, f));
     for (size_t c = 0; c < dir.extent(1); ++c) directions.push_back(dir(n, c));
+    for (size_t c = 0; c < force.extent(1); ++c) forces.push_back(force(n, c));
   }
 }
 
@@ -98,15 +101,20 @@ void ImplicitNewmark<Shape, Dim>::restoreContactStates(const NamedArrays& state)
   if (gids == state.end()) return;
   const std::vector<double>& states = state.at("node implicit contact states");
   const std::vector<double>& directions = state.at("node implicit contact directions");
+  const auto forcesFound = state.find("node implicit contact forces");
   const auto map = dist_.ownedNodeMap();
   ContactActiveSet& set = conditions_.implicitContactSet();
   set.fit(map->getNodeNumElements(), fields_);
   auto st = Kokkos::create_mirror_view(set.state);
   auto dir = Kokkos::create_mirror_view(set.direction);
+  auto force = Kokkos::create_mirror_view(set.force);
   Kokkos::deep_copy(st, set.state);
   Kokkos::deep_copy(dir, set.direction);
+  Kokkos::deep_copy(force, set.force);
   const size_t fields = st.extent(1), width = dir.extent(1);
-  if (states.size() != gids->second.size() * fields || directions.size() != gids->second.size() * width)
+  const bool withForces = forcesFound != state.end();
+  if (states.size() != gids->second.size() * fields || directions.size() != gids->second.size() * width ||
+      (withForces && forcesFound->second.size() != gids->second.size() * width))
     throw std::runtime_error("checkpoint: the implicit contact states do not match " + std::to_string(fields) +
                              " fields");
   for (size_t i = 0; i < gids->second.size(); ++i) {
@@ -114,9 +122,11 @@ void ImplicitNewmark<Shape, Dim>::restoreContactStates(const NamedArrays& state)
     if (n == Teuchos::OrdinalTraits<LO>::invalid()) continue;
     for (size_t f = 0; f < fields; ++f) st(n, f) = int(states[i * fields + f]);
     for (size_t c = 0; c < width; ++c) dir(n, c) = directions[i * width + c];
+    for (size_t c = 0; c < width && withForces; ++c) force(n, c) = forcesFound->second[i * width + c];
   }
   Kokkos::deep_copy(set.state, st);
   Kokkos::deep_copy(set.direction, dir);
+  Kokkos::deep_copy(set.force, force);
 }
 
 // Walls: the active set (each wall node's hold, stick or slip and slip direction, with its node's

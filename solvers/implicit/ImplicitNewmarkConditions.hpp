@@ -14,6 +14,23 @@
 
 namespace impm {
 
+template <class Shape, int Dim>
+template <class StateView, class Body>
+void ImplicitNewmark<Shape, Dim>::forEachRigidDof(const StateView& state, const Body& body) const {
+  using SC = implicit::StateColumns<Dim>;
+  if (!conditions_.contact().hasRigid()) return;
+  const auto rigid = conditions_.contact().rigidFields();
+  const RigidFieldMotion motion{conditions_.contact().rigidMotion(), dt_};
+  const int fields = fields_, ss = stateStride_;
+  Kokkos::parallel_for(
+      "implicit_rigid_fields", Kokkos::RangePolicy<Exec>(0, state.extent(0)), KOKKOS_LAMBDA(int n) {
+        for (int f = 0; f < fields; ++f) {
+          if (!rigid(f) || !(state(n, f * ss + SC::Mass) > 0.0)) continue;
+          for (int c = 0; c < Dim; ++c) body(n, f, c, motion);
+        }
+      });
+}
+
 // Field b's end-of-step velocity at owned node n (component c) for the grid displacement u last
 // scattered (Newmark): what the contact law sees.
 template <class Shape, int Dim>
@@ -50,16 +67,11 @@ template <class Shape, int Dim>
 void ImplicitNewmark<Shape, Dim>::addContactForces() {
   using SC = implicit::StateColumns<Dim>;
   using FC = implicit::ForceColumns<Dim>;
-  const NewmarkConstants k(opt_.newmark, dt_);
   auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
   auto f = forceOwned_->getLocalViewDevice(Tpetra::Access::ReadWrite);
   const int ss = stateStride_;
   const auto endVelocity = trialEndVelocity();
-  double h = dist_.grid().spacing(0);
-  for (int c = 1; c < Dim; ++c) h = std::min(h, dist_.grid().spacing(c));
-  const double wave = mat_.maxPWaveSpeed();
-  const double r = k.c1 + wave * wave / (h * h);
-  const double coefficient = opt_.contactPenalty * r * opt_.newmark.beta * dt_ / opt_.newmark.gamma;
+  const double coefficient = contactPenaltyCoefficient();
   // The law's pair forces are sum m dv / dt, the penalty's coefficient dt times them. Reported is
   // the impulse the contact gives over the step per unit time, gamma F_c: the trapezoidal velocity
   // update takes gamma of the end force, and the start acceleration (from the fields' own forces)
@@ -67,6 +79,18 @@ void ImplicitNewmark<Shape, Dim>::addContactForces() {
   conditions_.template addImplicitContactForces<Exec>(s, SC::Mass, geometryCol_, ss, endVelocity, f, FC::ForceX,
                                                       forceStride_, coefficient,
                                                       coefficient * dt_ * opt_.newmark.gamma);
+}
+
+// The penalty's coefficient alpha r / c_v (see addContactForces): times a field's nodal mass, its
+// stiffness against the trial end velocity.
+template <class Shape, int Dim>
+double ImplicitNewmark<Shape, Dim>::contactPenaltyCoefficient() const {
+  const NewmarkConstants k(opt_.newmark, dt_);
+  double h = dist_.grid().spacing(0);
+  for (int c = 1; c < Dim; ++c) h = std::min(h, dist_.grid().spacing(c));
+  const double wave = opt_.contactWaveSpeed > 0.0 ? opt_.contactWaveSpeed : mat_.maxPWaveSpeed();
+  const double r = k.c1 + wave * wave / (h * h);
+  return opt_.contactPenalty * r * opt_.newmark.beta * dt_ / opt_.newmark.gamma;
 }
 
 // The force that stops field b's held wall component over the step: -m v / dt - F_int - F_ext
@@ -118,6 +142,9 @@ void ImplicitNewmark<Shape, Dim>::recordReactions(const Vector& u) {
       return sum;
     });
     conditions_.recordImplicitContactForces();
+    using SC = implicit::StateColumns<Dim>;
+    conditions_.template carryImplicitContactForces<Exec>(stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
+                                                          SC::Mass, stateStride_);
   } else {
     conditions_.template recordReaction<Exec>(
         KOKKOS_LAMBDA(int n, int d) { return atNode(n, d, disp(n, DC::UX + d)); });
@@ -137,8 +164,8 @@ bool ImplicitNewmark<Shape, Dim>::reviseContactStates(const Vector& u) {
   int local = 0;
   {
     auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
-    local =
-        conditions_.template classifyImplicitContact<Exec>(s, SC::Mass, geometryCol_, stateStride_, trialEndVelocity());
+    local = conditions_.template classifyImplicitContact<Exec>(s, SC::Mass, geometryCol_, stateStride_,
+                                                               trialEndVelocity(), contactPenaltyCoefficient());
   }
   int changes = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));

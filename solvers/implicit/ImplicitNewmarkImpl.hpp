@@ -124,7 +124,6 @@ void ImplicitNewmark<Shape, Dim>::checkContactUsable() const {
   if (opt_.transfer != ParticleTransfer::FlipPic) refuse("needs 'Integrator/Implicit/Transfer' = FLIP/PIC");
   if (opt_.fbar) refuse("does not take 'Method/Volumetric Locking' = F-bar");
   if (!opt_.equilibriumAcceleration) refuse("needs 'Integrator/Implicit/Grid Acceleration' = Equilibrium");
-  if (conditions_.contact().hasRigid()) refuse("does not take Rigid bodies (they need the explicit integrator)");
 }
 
 template <class Shape, int Dim>
@@ -279,6 +278,12 @@ void ImplicitNewmark<Shape, Dim>::normalizeGridState(double t, double dt, bool a
   if (conditions_.hasWalls()) {
     conditions_.implicitWalls().template hold<Exec>(s, SC::Mass, SC::VelX, SC::AccX, SC::FreeX, cutoff, dt, ss);
   }
+  forEachRigidDof(
+      s, KOKKOS_LAMBDA(int n, int f, int c, const RigidFieldMotion& rigid) {
+        s(n, f * ss + SC::VelX + c) = rigid.start(f, c);
+        s(n, f * ss + SC::AccX + c) = rigid.acceleration(f, c);
+        s(n, f * ss + SC::FreeX + c) = 0.0;
+      });
 }
 
 // The lumped projection v_i = sum m_p S_ip v_p / m_i smooths the grid state every step (by

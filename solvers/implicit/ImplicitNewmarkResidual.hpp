@@ -37,6 +37,11 @@ void ImplicitNewmark<Shape, Dim>::scatterUnknowns(const Vector& u) {
     // The prescribed dofs move by their increment (they are not unknowns; zero is already there).
     if (!conditions_.isZero(PrescribedField::Increment))
       conditions_.template write<Exec>(d, DC::UX, PrescribedField::Increment, ds);
+    forEachRigidDof(
+        stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly),
+        KOKKOS_LAMBDA(int n, int f, int c, const RigidFieldMotion& rigid) {
+          d(n, f * ds + DC::UX + c) = rigid.increment(f, c);
+        });
   }
   dispGhosted_->doImport(*dispOwned_, *dist_.importer(), Tpetra::INSERT);
 }

@@ -53,6 +53,11 @@ void ImplicitNewmark<Shape, Dim>::gridUpdate() {
     conditions_.template write<Exec>(d, DC::DvX, PrescribedField::VelocityChange, ds);
     if (conditions_.hasWalls())
       conditions_.implicitWalls().template stop<Exec>(d, DC::AnewX, DC::DvX, s, SC::VelX, dt, ds, ss);
+    forEachRigidDof(
+        s, KOKKOS_LAMBDA(int n, int f, int c, const RigidFieldMotion& rigid) {
+          d(n, f * ds + DC::AnewX + c) = rigid.acceleration(f, c);
+          d(n, f * ds + DC::DvX + c) = rigid.change(f, c);
+        });
   }
   if (!opt_.fixedParticles) return;
   auto d = dispOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
