@@ -206,6 +206,23 @@ class GridConditions {
     return contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, lawVelocity_, 0, -1, dim_, dim_, dt_, true,
                                         nullptr, &contactSet_);
   }
+  // For the preconditioner: per owned node, -d m_a (v*_a - v_a) / d v_b of the contact law at the
+  // trial end velocities (shifted as in addImplicitContactForces), with the active set's states
+  // (ContactActiveSet::jacobian, Linearize). The penalty's stiffness is coefficient d v_new / d u
+  // times it.
+  template <class ExecSpace, class StateView, class EndVelocity>
+  Kokkos::View<const double**, Kokkos::LayoutRight, DeviceType> linearizeImplicitContact(const StateView& s,
+                                                                                         int massCol, int gradCol,
+                                                                                         int stateStride,
+                                                                                         const EndVelocity& endVelocity,
+                                                                                         double coefficient) {
+    trialContactVelocities<ExecSpace>(s, massCol, stateStride, endVelocity, coefficient);
+    Kokkos::deep_copy(contactSet_.jacobian, 0.0);
+    contactSet_.mode = ContactActiveSet::Mode::Linearize;
+    contact_.exchange<ExecSpace>(s, massCol, gradCol, stateStride, lawVelocity_, 0, -1, dim_, dim_, dt_, true, nullptr,
+                                 &contactSet_);
+    return contactSet_.jacobian;
+  }
   // The active set at the start of a step attempt, kept so that a failed attempt (StepControl
   // retries it smaller) starts again from it; and the set itself (checkpoints).
   void keepImplicitContactStates(size_t ownedNodes) {

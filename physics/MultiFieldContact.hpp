@@ -103,15 +103,20 @@ struct ContactSpec {
 // friction can hold it (|dv_t| <= mu dn), else slips along dv_t. Frictional pairs only: the
 // frictionless law kinks only where the bodies start or stop approaching, which Newton's line
 // search handles, and No Slip is linear in dv. Classify counts the nodes whose state changed or
-// whose slip direction turned by more than about 8 degrees.
+// whose slip direction turned by more than about 8 degrees. Linearize writes the law's derivative
+// with the set's states (the preconditioner's contact stiffness; Exchange::linearize).
 struct ContactActiveSet {
   enum State : int { Free = 0, Stick = 1, Slip = 2 };
-  enum class Mode { Law, Frozen, Classify };
+  enum class Mode { Law, Frozen, Classify, Linearize };
   Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> state;         // owned node x field
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> direction;  // owned node x (3 per field)
   // Owned node x (3 per field): the contact force on each field at the end of the last converged
   // step, carried into the next as the augmented Lagrangian's multiplier (GridConditions).
   Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> force;
+  // Owned node x (10 per field): Linearize's -d m_a (v*_a - v_a) / d v_b = m_a B_a (delta_ab - w_b),
+  // with m_a B_a in columns 9 a + 3 d + e (row-major 3 x 3; zero where a is free) and w_b, field b's
+  // share of the velocity the bodies meet at, in column 9 fields + b.
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> jacobian;
   Mode mode = Mode::Law;
   // Whether the set holds the nodes of a grid of `nodes` owned nodes and `fields` fields; else
   // (the first step, a new decomposition) it starts afresh with every node Free and no force.
@@ -120,6 +125,7 @@ struct ContactActiveSet {
     state = decltype(state)("contact_active_set", nodes, fields);
     direction = decltype(direction)("contact_slip_direction", nodes, 3 * fields);
     force = decltype(force)("contact_carried_force", nodes, 3 * fields);
+    jacobian = decltype(jacobian)("contact_jacobian", nodes, 10 * fields);
   }
 };
 
@@ -195,7 +201,7 @@ struct MultiFieldContact::Exchange {
   bool larger, hasRigid, stepEnd;
   // The implicit step's active set (mode Law: none) and its mode.
   Kokkos::View<int**, Kokkos::LayoutRight, DeviceType> state;
-  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> direction;
+  Kokkos::View<double**, Kokkos::LayoutRight, DeviceType> direction, jacobian;
   ContactActiveSet::Mode mode;
   size_type value_count;  // 3 per pair, then the count of Classify's changes
 
@@ -241,6 +247,7 @@ struct MultiFieldContact::Exchange {
     if (screened < 2) return;
     double vcm[3] = {0.0, 0.0, 0.0};
     centreOfMassVelocity(n, mass, rigidField, vcm);
+    if (mode == ContactActiveSet::Mode::Linearize) writeShares(n, mass, rigidField);
     for (int a = 0; a < fields; ++a) {
       if (!(mass[a] > 0.0) || mass[a] < screen * total || (hasRigid && rigid(a))) continue;
       int other = rigidField;  // a rigid body, else the heaviest other body: its pair's law
@@ -260,6 +267,10 @@ struct MultiFieldContact::Exchange {
       double change[3] = {0.0, 0.0, 0.0};
       if (mode == ContactActiveSet::Mode::Classify) {
         if (mu > 0.0) force[value_count - 1] += classify(n, a, mu, dv, dn, normal, old[a]);
+        continue;
+      }
+      if (mode == ContactActiveSet::Mode::Linearize) {
+        linearize(n, a, mu, dn, normal, mass[a]);
         continue;
       }
       if (mu < 0.0) {  // no slip
@@ -295,6 +306,33 @@ struct MultiFieldContact::Exchange {
     for (int d = 0; d < dim; ++d)
       change[d] = current == ContactActiveSet::Stick ? -dv[d] : -dn * normal[d] - mu * dn * direction(n, 3 * a + d);
     return true;
+  }
+
+  // Linearize: -d m_a (v*_a - v_a) / d v_b = m_a B_a (delta_ab - w_b) at node n, with
+  // dv_a = v_a - sum_b w_b v_b: B_a is the identity where a sticks (or the pair does not slip),
+  // n n^T + mu s n^T where it slips along s, n n^T for a frictionless approach, and zero where a is
+  // free; writes m_a B_a (`mass` = m_a).
+  KOKKOS_INLINE_FUNCTION void linearize(int n, int a, double mu, double dn, const double* normal, double mass) const {
+    int current = mu < 0.0 ? ContactActiveSet::Stick : ContactActiveSet::Slip;
+    if (mu > 0.0) current = state(n, a);
+    if (current == ContactActiveSet::Free || (mu == 0.0 && !(dn > 0.0))) return;
+    for (int d = 0; d < dim; ++d)
+      for (int e = 0; e < dim; ++e) {
+        const double slip = normal[d] * normal[e] + (mu > 0.0 ? mu * direction(n, 3 * a + d) * normal[e] : 0.0);
+        jacobian(n, 9 * a + 3 * d + e) = mass * (current == ContactActiveSet::Stick ? (d == e ? 1.0 : 0.0) : slip);
+      }
+  }
+
+  // Linearize: each field's share w_b of the velocity the bodies meet at, at node n: m_b / m over
+  // the deformable bodies (centreOfMassVelocity), none where a rigid body sets it.
+  KOKKOS_INLINE_FUNCTION void writeShares(int n, const double* mass, int rigidField) const {
+    double m = 0.0;
+    for (int f = 0; f < fields; ++f)
+      if (mass[f] > 0.0 && !(hasRigid && rigid(f))) m += mass[f];
+    for (int f = 0; f < fields; ++f) {
+      const bool shares = rigidField < 0 && mass[f] > 0.0 && !(hasRigid && rigid(f));
+      jacobian(n, 9 * fields + f) = shares ? mass[f] / m : 0.0;
+    }
   }
 
   // Classify: field a's state at node n from its trial relative velocity dv (dn along the normal)
@@ -446,6 +484,7 @@ int MultiFieldContact::exchange(const SumsView& sums, int massCol, int gradCol, 
                                  stepEnd,
                                  activeSet ? activeSet->state : decltype(activeSet->state)(),
                                  activeSet ? activeSet->direction : decltype(activeSet->direction)(),
+                                 activeSet ? activeSet->jacobian : decltype(activeSet->jacobian)(),
                                  mode,
                                  3 * pairs_ + 1};
   std::vector<double> sumsOut(3 * pairs_ + 1, 0.0);

@@ -81,6 +81,9 @@ class Simulation {
   void restartFrom(const std::string& dir);
 
   const ParticleSet& particles() const { return particles_; }
+  // The time integrator, as the last step left it (tests evaluate an implicit step's residual and
+  // matrix after a run).
+  Integrator& integrator() { return *integrator_; }
   const GridDistribution& distribution() const { return *dist_; }
   const Materials& materials() const { return materials_; }
   const std::vector<BodySpec>& bodies() const { return bodies_; }

@@ -188,6 +188,7 @@ class ImplicitNewmark : public Integrator, public ResidualModel {
   void checkContactUsable() const;
   void addContactForces();
   double contactPenaltyCoefficient() const;
+  typename StiffnessAssembler<Dim>::NodeCouplings contactStiffness(const Vector& u, bool scattered);
   // Rigid bodies: body(n, f, c, motion) at each owned node n where rigid field f has mass, per
   // component c; `mass` the owned grid state (RigidFieldMotion).
   template <class StateView, class Body>

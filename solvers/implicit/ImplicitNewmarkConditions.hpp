@@ -169,6 +169,7 @@ bool ImplicitNewmark<Shape, Dim>::reviseContactStates(const Vector& u) {
   }
   int changes = 0;
   Teuchos::reduceAll(*dist_.comm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(changes));
+  if (changes > 0) PCurrent_ = false;  // P carries the set's stiffness (contactStiffness)
   return changes > 0;
 }
 

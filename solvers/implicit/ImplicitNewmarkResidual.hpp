@@ -180,6 +180,24 @@ BlockMatrices ImplicitNewmark<Shape, Dim>::stiffnessBlocks(bool trialTangent) co
                      Kokkos::View<const int*, DeviceType>());
 }
 
+// The contact penalty's stiffness for P at u: F_c = coefficient m (v* - v_new) with
+// d v_new / d u = gamma / (beta dt) (addContactForces), linearized by the law with the active set's
+// states, the fields of a node coupled through the velocity they meet at. With the states held
+// and the normals fixed for the step, this is the exact derivative of the contact force.
+template <class Shape, int Dim>
+typename StiffnessAssembler<Dim>::NodeCouplings ImplicitNewmark<Shape, Dim>::contactStiffness(const Vector& u,
+                                                                                              bool scattered) {
+  using SC = implicit::StateColumns<Dim>;
+  if (!scattered) scatterUnknowns(u);
+  auto s = stateOwned_->getLocalViewDevice(Tpetra::Access::ReadOnly);
+  const double coefficient = contactPenaltyCoefficient();
+  typename StiffnessAssembler<Dim>::NodeCouplings couplings;
+  couplings.values = conditions_.template linearizeImplicitContact<Exec>(s, SC::Mass, geometryCol_, stateStride_,
+                                                                         trialEndVelocity(), coefficient);
+  couplings.factor = coefficient * opt_.newmark.gamma / (opt_.newmark.beta * dt_);
+  return couplings;
+}
+
 // P = c1 M + K over the free dofs (K over particle-cell pairs, exact over overlaps for GIMP).
 // Small strain: P does not depend on u and is assembled at most once per step; the trial tangent
 // (finite strain, see PreconditionerRefresh) at every Newton iterate. The consistent mass goes
@@ -206,14 +224,17 @@ Teuchos::RCP<const CrsMatrix> ImplicitNewmark<Shape, Dim>::jacobianMatrix(const 
       fbar_->template correctGradients<Exec>(ps_);
     }
   }
-  if (refresh_.keep(!assembler_.matrix().is_null(), trialTangent)) {
+  // With contact P carries the active set's stiffness, so it is assembled for every solve.
+  if (fields_ == 1 && refresh_.keep(!assembler_.matrix().is_null(), trialTangent)) {
     PCurrent_ = true;
     return assembler_.matrix();
   }
   const bool graphChanged = assembler_.updatePattern(*stateGhosted_, SC::FreeX, dofs_);
   const bool consistentMassInP = opt_.consistentMass && !seedGimpStiffness_;
+  typename StiffnessAssembler<Dim>::NodeCouplings contact;
+  if (fields_ > 1) contact = contactStiffness(u, trialTangent);
   assembler_.fill(stiffnessBlocks(trialTangent), dofs_, consistentMassInP ? nullptr : stateOwned_.get(), SC::Mass,
-                  opt_.newmark.c1(dt_));
+                  opt_.newmark.c1(dt_), fields_ > 1 ? &contact : nullptr);
   refresh_.assembled(graphChanged);
   PCurrent_ = true;
   return assembler_.matrix();

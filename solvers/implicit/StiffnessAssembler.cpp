@@ -65,6 +65,24 @@ void StiffnessAssembler<Dim>::forEachBlockCoupling(const MultiVector& stateGhost
 }
 
 template <int Dim>
+template <class Visit>
+void StiffnessAssembler<Dim>::forEachNodeCoupling(const MultiVector& stateGhosted, int freeX,
+                                                  const FreeDofMap<Dim>& dofs, Visit&& visit) const {
+  if (fields_ < 2) return;
+  auto sg = stateGhosted.getLocalViewHost(Tpetra::Access::ReadOnly);
+  const auto ghostMap = dist_.ghostedNodeMap();
+  for (size_t n = 0; n < sg.extent(0); ++n) {
+    const GO node = ghostMap->getGlobalElement(LO(n));
+    for (int a = 0; a < fields_; ++a)
+      for (int b = 0; b < fields_; ++b)
+        for (int d = 0; d < Dim; ++d)
+          for (int e = 0; e < Dim; ++e)
+            if (a != b && sg(n, freeX + a * stride_ + d) > 0.5 && sg(n, freeX + b * stride_ + e) > 0.5)
+              visit(dofs.gid(node, d, a), dofs.gid(node, e, b));
+  }
+}
+
+template <int Dim>
 bool StiffnessAssembler<Dim>::updatePattern(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs) {
   std::vector<GO> key;
   {
@@ -89,6 +107,7 @@ void StiffnessAssembler<Dim>::buildGraph(const MultiVector& stateGhosted, int fr
   const auto unknownMap = dofs.map();
   std::map<GO, std::vector<GO>> rows;
   forEachBlockCoupling(stateGhosted, freeX, dofs, [&](long, int, GO row, GO col) { rows[row].push_back(col); });
+  forEachNodeCoupling(stateGhosted, freeX, dofs, [&](GO row, GO col) { rows[row].push_back(col); });
   std::vector<GO> rowGids;
   size_t maxPerRow = 1;
   for (auto& [r, cols] : rows) {
@@ -120,6 +139,7 @@ void StiffnessAssembler<Dim>::buildGraph(const MultiVector& stateGhosted, int fr
     const LO lr = rowMap->getLocalElement(row), lc = colMap->getLocalElement(col);
     size_t off = rowPtr(lr);
     while (off < rowPtr(lr + 1) && entries(off) != lc) ++off;
+    if (off == rowPtr(lr + 1)) throw std::logic_error("StiffnessAssembler: an entry is missing from the graph");
     return long(off);
   };
   blockOffsets_ = Kokkos::View<long*, DeviceType>("block_offsets", fields_ * blocks_.size() * nd_ * nd_);
@@ -133,6 +153,22 @@ void StiffnessAssembler<Dim>::buildGraph(const MultiVector& stateGhosted, int fr
   auto hd = Kokkos::create_mirror_view(diagonalOffsets_);
   for (size_t k = 0; k < dofs.size(); ++k) hd(k) = offsetOf(dofs.gids()[k], dofs.gids()[k]);
   Kokkos::deep_copy(diagonalOffsets_, hd);
+  // Every pair of a node's free dofs is in the graph (a field's through the blocks around the
+  // node, two fields' through forEachNodeCoupling).
+  nodeOffsets_ = decltype(nodeOffsets_)("node_offsets", dofs.size(), fields_ * Dim);
+  auto hn = Kokkos::create_mirror_view(nodeOffsets_);
+  const LO invalidLocal = Teuchos::OrdinalTraits<LO>::invalid();
+  auto node = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dofs.node());
+  const auto ownedMap = dist_.ownedNodeMap();
+  for (size_t k = 0; k < dofs.size(); ++k) {
+    const GO row = dofs.gids()[k], nodeGid = ownedMap->getGlobalElement(node(k));
+    for (int b = 0; b < fields_; ++b)
+      for (int e = 0; e < Dim; ++e) {
+        const GO col = dofs.gid(nodeGid, e, b);
+        hn(k, b * Dim + e) = colMap->getLocalElement(col) != invalidLocal ? offsetOf(row, col) : -1L;
+      }
+  }
+  Kokkos::deep_copy(nodeOffsets_, hn);
 }
 
 // values(e) = sum over the blocks k in order of K_k at e: the contributions are counted per entry,
@@ -226,7 +262,8 @@ void StiffnessAssembler<Dim>::sumBlocksSequential(const BlockMatrices& Kb) const
 
 template <int Dim>
 void StiffnessAssembler<Dim>::fill(const BlockMatrices& blocks, const FreeDofMap<Dim>& dofs,
-                                   const MultiVector* lumpedMass, int massColumn, double massFactor) {
+                                   const MultiVector* lumpedMass, int massColumn, double massFactor,
+                                   const NodeCouplings* couplings) {
   using Exec = ExecutionSpace;
   const auto unknownMap = dofs.map();
   overlapP_->resumeFill();
@@ -245,11 +282,36 @@ void StiffnessAssembler<Dim>::fill(const BlockMatrices& blocks, const FreeDofMap
         "stiffness_lumped_mass", Kokkos::RangePolicy<Exec>(0, diagonal.extent(0)),
         KOKKOS_LAMBDA(int k) { values(diagonal(k)) += massFactor * m(node(k), massColumn + field(k) * stride); });
   }
+  if (couplings) addNodeCouplings(*couplings, dofs);
   overlapP_->fillComplete(unknownMap, unknownMap);
   P_->resumeFill();
   P_->setAllToScalar(0.0);
   P_->doExport(*overlapP_, *exporter_, Tpetra::ADD);
   P_->fillComplete(unknownMap, unknownMap);
+}
+
+// Each free dof's row gets its node's couplings: one writer per entry, so the order is fixed.
+template <int Dim>
+void StiffnessAssembler<Dim>::addNodeCouplings(const NodeCouplings& couplings, const FreeDofMap<Dim>& dofs) {
+  auto values = overlapP_->getLocalMatrixDevice().values;
+  auto offsets = nodeOffsets_;
+  auto J = couplings.values;
+  auto node = dofs.node();
+  auto component = dofs.component();
+  auto field = dofs.field();
+  const double factor = couplings.factor;
+  const int fields = fields_;
+  Kokkos::parallel_for(
+      "stiffness_node_couplings", Kokkos::RangePolicy<ExecutionSpace>(0, offsets.extent(0)), KOKKOS_LAMBDA(int k) {
+        const int n = node(k), a = field(k), d = component(k);
+        for (int b = 0; b < fields; ++b) {
+          const double mean = J(n, 9 * fields + b);
+          for (int e = 0; e < Dim; ++e) {
+            const double value = J(n, 9 * a + 3 * d + e) * ((a == b ? 1.0 : 0.0) - mean);
+            if (offsets(k, b * Dim + e) >= 0 && value != 0.0) values(offsets(k, b * Dim + e)) += factor * value;
+          }
+        }
+      });
 }
 
 template <int Dim>

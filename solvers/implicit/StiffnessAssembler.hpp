@@ -1,6 +1,7 @@
 // The assembled matrix P of an implicit step: the block matrices of the stiffness kernels (one
 // dense block per particle, or per particle-cell pair for the seed's GIMP stiffness) summed into a
-// Tpetra CrsMatrix over the free dofs, plus an optional lumped-mass diagonal.
+// Tpetra CrsMatrix over the free dofs, plus an optional lumped-mass diagonal and optional
+// couplings among a node's fields (multi-field contact's stiffness).
 //
 // The graph is built once per pattern of free dofs a rank sees: every block of the rank's ghost
 // region couples its free dofs (blocks without particles hold zeros), so that moving particles
@@ -48,10 +49,20 @@ class StiffnessAssembler {
   // kept while that set is unchanged on every rank. Collective. True when (re)built.
   bool updatePattern(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs);
 
+  // Couplings of the fields at a node, each field against a weighted mean of them (the contact
+  // law's linearization, ContactActiveSet::jacobian): per owned node, a 3 x 3 block B_a per field
+  // (row-major, at 9 a) and then a weight w_b per field (at 9 fields + b);
+  // P((n, d, a), (n, e, b)) += factor B_a(d, e) (delta_ab - w_b).
+  struct NodeCouplings {
+    Kokkos::View<const double**, Kokkos::LayoutRight, DeviceType> values;
+    double factor = 0.0;
+  };
+
   // P = sum of the blocks + massFactor diag(m) at the free dofs (when lumpedMass is given: the
-  // mass in its column massColumn). Requires updatePattern for this step's dofs.
+  // mass in its column massColumn) + the node couplings (when given). Requires updatePattern for
+  // this step's dofs.
   void fill(const BlockMatrices& blocks, const FreeDofMap<Dim>& dofs, const MultiVector* lumpedMass, int massColumn,
-            double massFactor);
+            double massFactor, const NodeCouplings* couplings = nullptr);
 
   Teuchos::RCP<CrsMatrix> matrix() const { return P_; }
   void forgetMatrix() { P_ = Teuchos::null; }
@@ -79,6 +90,12 @@ class StiffnessAssembler {
   void buildGraph(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs);
   void sumBlocks(const BlockMatrices& blocks) const;            // the parallel gather
   void sumBlocksSequential(const BlockMatrices& blocks) const;  // one pass, block after block
+  void addNodeCouplings(const NodeCouplings& couplings, const FreeDofMap<Dim>& dofs);
+  // The couplings of the free components of every node's fields (several fields: those of
+  // different fields, which no block holds).
+  template <class Visit>
+  void forEachNodeCoupling(const MultiVector& stateGhosted, int freeX, const FreeDofMap<Dim>& dofs,
+                           Visit&& visit) const;
 
   const GridDistribution& dist_;
   BlockGrid blocks_;
@@ -88,9 +105,11 @@ class StiffnessAssembler {
   Teuchos::RCP<CrsMatrix> P_, overlapP_;
   Teuchos::RCP<const Export> exporter_;
   std::vector<GO> patternKey_;
-  // Offsets into overlapP_'s values: per block and local dof pair (r, c) (-1: not free), and per
-  // free dof for its diagonal.
+  // Offsets into overlapP_'s values: per block and local dof pair (r, c) (-1: not free), per
+  // free dof for its diagonal, and per free dof, field b and component e for the entry coupling it
+  // to its node's dof (e, b) (-1: not free).
   Kokkos::View<long*, DeviceType> blockOffsets_, diagonalOffsets_;
+  Kokkos::View<long**, Kokkos::LayoutRight, DeviceType> nodeOffsets_;
 };
 
 }  // namespace impm
