@@ -53,8 +53,8 @@ void addContactSchema(ParameterList& valid) {
   number(c, "Implicit Penalty", 30.0,
          "implicit integrator: the penalty factor alpha > 0 of the contact force in the residual, alpha r m (v* - "
          "v_new) / c_v with v* the contact law's velocity, r = c1 + c_p^2 / h^2 a node's stiffness per unit mass. "
-         "The bodies' remaining approach is of order 1 / alpha of the one without contact; a larger alpha costs "
-         "Krylov iterations");
+         "The bodies' remaining approach is of order 1 / alpha of the one without contact (the preconditioner "
+         "carries the penalty's stiffness, so a larger alpha costs no more GMRES iterations)");
   number(c, "Mass Screen", 1.0e-5,
          "a node where a body holds less than this fraction of the mass (or more than 1 minus it) is not a contact "
          "node for it: the far edge of a stencil carries too little mass for a reliable normal");
