@@ -54,7 +54,7 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   // RILUK: the factorisation of Kokkos Kernels (the same ILU(k)) unless the deck chooses. Ifpack2's
   // serial one reads and writes P, L and U a row at a time through Tpetra's row views, whose
   // reference counting cost a small implicit step a fifth of its time (the seed's implicit bar).
-  if (type == "RILUK" && !copy.isParameter("fact: type") && P->getNodeNumRows() > 0) copy.set("fact: type", "KSPILUK");
+  if (type == "RILUK" && !copy.isParameter("fact: type")) copy.set("fact: type", "KSPILUK");
   if (type == "SCHWARZ" && !avoidAmesosOnEmptyBlock(copy, P->getNodeNumRows() == 0) &&
       copy.isType<std::string>("subdomain solver name") &&
       copy.get<std::string>("subdomain solver name") == "AMESOS2" &&
