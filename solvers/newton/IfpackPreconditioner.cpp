@@ -51,10 +51,6 @@ RCP<Ifpack2Preconditioner> IfpackPreconditionerCache::create(const RCP<const Crs
   // Ifpack2's Amesos2 wrapper throws unless its options come in a sublist called "Amesos2": an
   // empty one means KLU2 with its defaults.
   if (type == "AMESOS2" && !copy.isSublist("Amesos2")) copy.sublist("Amesos2");
-  // RILUK: the factorisation of Kokkos Kernels (the same ILU(k)) unless the deck chooses. Ifpack2's
-  // serial one reads and writes P, L and U a row at a time through Tpetra's row views, whose
-  // reference counting cost a small implicit step a fifth of its time (the seed's implicit bar).
-  if (type == "RILUK" && !copy.isParameter("fact: type")) copy.set("fact: type", "KSPILUK");
   if (type == "SCHWARZ" && !avoidAmesosOnEmptyBlock(copy, P->getNodeNumRows() == 0) &&
       copy.isType<std::string>("subdomain solver name") &&
       copy.get<std::string>("subdomain solver name") == "AMESOS2" &&

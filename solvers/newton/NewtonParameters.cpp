@@ -143,8 +143,8 @@ RCP<const ParameterList> newtonValidParameters() {
   }
   pl->set("Preconditioner", "RILUK",
           "Ifpack2 preconditioner built from the assembled P (initialize() once per matrix graph, compute() "
-          "each Newton step): RILUK (incomplete LU, level of fill 'fact: iluk level-of-fill'; Kokkos Kernels' "
-          "factorisation unless 'fact: type' says Serial), ILUT, "
+          "each Newton step): RILUK (incomplete LU, level of fill 'fact: iluk level-of-fill'; 'fact: type' "
+          "KSPILUK factorises with Kokkos Kernels, faster for small steps unless OMP_WAIT_POLICY is passive), ILUT, "
           "RELAXATION (Jacobi unless 'relaxation: type' says otherwise), CHEBYSHEV, AMESOS2 (sparse direct LU of "
           "each rank's diagonal block, KLU2 unless 'Amesos2 solver name' says otherwise: on one rank the exact "
           "inverse of P), SCHWARZ (additive Schwarz, 'schwarz: overlap level' layers of overlap between ranks, "
