@@ -154,7 +154,11 @@ void StiffnessAssembler<Dim>::buildGraph(const MultiVector& stateGhosted, int fr
   for (size_t k = 0; k < dofs.size(); ++k) hd(k) = offsetOf(dofs.gids()[k], dofs.gids()[k]);
   Kokkos::deep_copy(diagonalOffsets_, hd);
   // Every pair of a node's free dofs is in the graph (a field's through the blocks around the
-  // node, two fields' through forEachNodeCoupling).
+  // node, two fields' through forEachNodeCoupling). Only contact (several fields) adds couplings.
+  if (fields_ < 2) {
+    nodeOffsets_ = decltype(nodeOffsets_)();
+    return;
+  }
   nodeOffsets_ = decltype(nodeOffsets_)("node_offsets", dofs.size(), fields_ * Dim);
   auto hn = Kokkos::create_mirror_view(nodeOffsets_);
   const LO invalidLocal = Teuchos::OrdinalTraits<LO>::invalid();
